@@ -1,0 +1,69 @@
+// Aggregates of an Evaluation: per tier (../shared/docs/metrics.md) and per bin.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mbest/validate/centerline_error.h"
+#include "mbest/validate/evaluation.h"
+
+namespace mbest::validate {
+
+// A half-open interval [lo, hi) of some figure; the last bin of a list also holds hi.
+struct Bin {
+  std::string label;
+  double lo = 0, hi = 0;
+};
+
+// Crossing angle, degrees: 0-10, 10-20, 20-45, 45-90.
+const std::vector<Bin>& angle_bins();
+// Curvature complexity of a rod: its total absolute turning, total_turning_rad, in radians.
+// 0-1.57 (under a quarter turn), 1.57-3.14, 3.14-6.28, 6.28-12.57, 12.57 and more.
+// A crossing's complexity is the larger of its two rods'.
+const std::vector<Bin>& complexity_bins();
+// Index of the bin holding `value`, -1 when none does.
+int bin_index(const std::vector<Bin>& bins, double value);
+
+struct TierSummary {
+  std::string tier;  // "all" for the whole data set
+  int images = 0;
+  // Mean and population standard deviation over the images, in percent.
+  double strict_mean = 0, strict_std = 0;
+  double lenient_mean = 0, lenient_std = 0;
+  int below_90 = 0, below_95 = 0;  // images whose strict score is below 0.90, 0.95
+  int count_errors = 0;            // images with n != m
+  int missing_predictions = 0;     // images scored 0 for a missing or unusable prediction
+  // Synthetic data only.
+  int crossings = 0;
+  int pairing_assessed = 0, pairing_correct = 0;
+  int order_assessed = 0, order_correct = 0;
+  bool has_centerlines = false;  // some image had predicted centerlines
+  DistanceSummary pred_to_gt, gt_to_pred;  // pooled over every point of the tier
+  double detect_ms_median = -1;            // with --run
+};
+
+struct RateBin {
+  Bin bin;
+  int assessed = 0, correct = 0;
+};
+
+struct MeanBin {
+  Bin bin;
+  int count = 0;
+  double mean = 0;  // a score in [0, 1]
+};
+
+struct Summary {
+  std::vector<TierSummary> tiers;
+  TierSummary all;
+  // Synthetic data only (empty bins otherwise).
+  std::vector<RateBin> pairing_by_angle, order_by_angle;
+  std::vector<RateBin> pairing_by_complexity, order_by_complexity;
+  std::vector<MeanBin> rod_dice_by_complexity;  // matched D of each rod, by its complexity
+  // Strict score of each image by its number of ground-truth instances n (one bin per n).
+  std::vector<MeanBin> strict_by_rod_count;
+};
+
+Summary summarise(const Evaluation& evaluation);
+
+}  // namespace mbest::validate

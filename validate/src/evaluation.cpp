@@ -1,0 +1,225 @@
+#include "mbest/validate/evaluation.h"
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "mbest/core/detector.h"
+#include "mbest/core/segmentation.h"
+
+namespace mbest::validate {
+
+namespace {
+
+// A prediction: its labels (empty when missing) and, when known, its centerlines.
+struct Prediction {
+  cv::Mat labels;
+  std::string source;
+  std::string error;
+  bool has_centerlines = false;
+  std::vector<Polyline> centerlines;
+  std::string centerline_warning;
+  double detect_ms = -1;
+};
+
+Prediction read_prediction(const DatasetItem& item, const std::string& pred_dir, bool want_centerlines) {
+  const PredictionPaths paths = prediction_paths(item, pred_dir);
+  Prediction p;
+  p.source = paths.labels;
+  if (!std::filesystem::exists(paths.labels)) {
+    p.error = paths.labels + ": missing prediction";
+    return p;
+  }
+  Result<cv::Mat> labels = read_label_image(paths.labels);
+  if (!labels) {
+    p.error = labels.error().message;
+    return p;
+  }
+  p.labels = std::move(labels).value();
+  if (want_centerlines && std::filesystem::exists(paths.json)) {
+    Result<std::vector<Polyline>> lines = read_predicted_centerlines(paths.json);
+    if (lines) {
+      p.has_centerlines = true;
+      p.centerlines = std::move(lines).value();
+    } else {
+      p.centerline_warning = lines.error().message + " (centerline error skipped)";
+    }
+  }
+  return p;
+}
+
+Result<Prediction> run_detector(const DatasetItem& item) {
+  Result<cv::Mat> bgr = read_image(item.image);
+  if (!bgr) return bgr.error();
+  Prediction p;
+  p.source = "(run)";
+  Result<cv::Mat> mask = colour_filter(bgr.value());
+  if (!mask) {
+    p.error = item.image + ": colour filter failed: " + mask.error().message;
+    return p;
+  }
+  // The detector is work in progress: whatever it throws is its failure on this image.
+  Result<Detection> detection = Error{"no result"};
+  try {
+    detection = detect(mask.value(), bgr.value());
+  } catch (const std::exception& e) {
+    detection = Error{std::string("threw ") + e.what()};
+  }
+  if (!detection) {
+    p.error = item.image + ": detect failed: " + detection.error().message;
+    return p;
+  }
+  p.labels = detection.value().labels;
+  p.detect_ms = detection.value().total_ms();
+  p.has_centerlines = true;
+  for (const Dlo& dlo : detection.value().dlos) {
+    Polyline line;
+    line.closed = dlo.closed;
+    for (const cv::Point& q : dlo.centerline) line.points.emplace_back(q.x, q.y);
+    p.centerlines.push_back(std::move(line));
+  }
+  return p;
+}
+
+Result<ImageResult> evaluate_item(const DatasetItem& item, const EvalOptions& options) {
+  Result<cv::Mat> gt = read_label_image(item.labels);
+  if (!gt) return gt.error();
+  std::optional<synth::SceneAnnotation> scene;
+  if (!item.annotation.empty()) {
+    Result<synth::SceneAnnotation> a = synth::read_annotation(item.annotation);
+    if (!a) return a.error();
+    scene = std::move(a).value();
+  }
+  Prediction pred;
+  if (options.run) {
+    Result<Prediction> r = run_detector(item);
+    if (!r) return r.error();
+    pred = std::move(r).value();
+  } else {
+    pred = read_prediction(item, options.pred_dir, scene.has_value());
+  }
+  if (!pred.labels.empty() && pred.labels.size() != gt.value().size()) {
+    pred.error = pred.source + ": size " + std::to_string(pred.labels.cols) + "x" +
+                 std::to_string(pred.labels.rows) + " differs from the ground truth's " +
+                 std::to_string(gt.value().cols) + "x" + std::to_string(gt.value().rows);
+    pred.labels = cv::Mat();
+  }
+  ImageResult r = score_image(item, gt.value(), scene ? &*scene : nullptr, pred.labels,
+                              pred.has_centerlines ? &pred.centerlines : nullptr,
+                              options.crossing);
+  r.prediction = pred.source;
+  if (!pred.error.empty()) r.prediction_error = pred.error;
+  r.detect_ms = pred.detect_ms;
+  if (!pred.centerline_warning.empty()) r.warnings.push_back(pred.centerline_warning);
+  return r;
+}
+
+}  // namespace
+
+Result<cv::Mat> read_label_image(const std::string& path) {
+  cv::Mat m;
+  try {
+    m = cv::imread(path, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    return Error{path + ": cannot read as an image (" + e.what() + ")"};
+  }
+  if (m.empty()) return Error{path + ": cannot read as an image"};
+  if (m.channels() != 1 || (m.depth() != CV_8U && m.depth() != CV_16U))
+    return Error{path + ": expected a 1-channel 8- or 16-bit label image, got " +
+                 std::to_string(m.channels()) + " channel(s)" +
+                 (m.depth() == CV_8U || m.depth() == CV_16U ? "" : " of an unsupported depth")};
+  return m;
+}
+
+ImageResult score_image(const DatasetItem& item, const cv::Mat& gt_labels,
+                        const synth::SceneAnnotation* scene, const cv::Mat& pred_labels,
+                        const std::vector<Polyline>* pred_centerlines,
+                        const CrossingOptions& options) {
+  ImageResult r;
+  r.item = item;
+  if (pred_labels.empty()) {
+    r.prediction_error = "missing prediction";
+    r.dice = missing_prediction_score(label_values(gt_labels));
+  } else {
+    Result<DiceScore> d = matched_dice(gt_labels, pred_labels);
+    if (d) {
+      r.dice = std::move(d).value();
+    } else {
+      r.prediction_error = d.error().message;
+      r.dice = missing_prediction_score(label_values(gt_labels));
+    }
+  }
+  if (!scene) return r;
+  for (const synth::RodAnnotation& rod : scene->rods) {
+    RodResult rr;
+    rr.id = rod.id;
+    rr.width_px = rod.width_px;
+    rr.complexity = rod.complexity.total_turning_rad;
+    for (size_t i = 0; i < r.dice.gt_ids.size(); ++i) {
+      if (r.dice.gt_ids[i] != rod.id) continue;
+      rr.matched_pred = r.dice.matched_pred[i];
+      rr.dice = r.dice.matched_dice[i];
+    }
+    r.rods.push_back(rr);
+  }
+  // With no usable prediction every crossing is unresolved: sampled on an empty label image.
+  const cv::Mat pred = r.prediction_error.empty() ? pred_labels
+                                                  : cv::Mat::zeros(gt_labels.size(), CV_16UC1);
+  r.crossings = crossing_resolution(*scene, gt_labels, pred, r.dice, options);
+  if (pred_centerlines && r.prediction_error.empty()) {
+    r.has_centerlines = true;
+    r.centerline = centerline_distances(*scene, *pred_centerlines, r.dice);
+  }
+  return r;
+}
+
+Result<Evaluation> evaluate(const Dataset& dataset, const EvalOptions& options,
+                            const std::function<void(int, int)>& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const int total = static_cast<int>(dataset.items.size());
+  std::vector<std::optional<ImageResult>> results(total);
+  std::vector<std::string> errors(total);
+  std::atomic<int> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex progress_mutex;
+  int done = 0;
+  const auto work = [&] {
+    for (int i = next++; i < total && !failed; i = next++) {
+      Result<ImageResult> r = Error{""};
+      try {
+        r = evaluate_item(dataset.items[i], options);
+      } catch (const std::exception& e) {
+        r = Error{dataset.items[i].image + ": " + e.what()};
+      }
+      if (r) {
+        results[i] = std::move(r).value();
+      } else {
+        errors[i] = r.error().message;
+        failed = true;
+      }
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      ++done;
+      if (progress) progress(done, total);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::max(1, options.threads); ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  for (const std::string& e : errors)
+    if (!e.empty()) return Error{e};
+
+  Evaluation ev;
+  ev.dataset = dataset;
+  ev.options = options;
+  for (std::optional<ImageResult>& r : results) ev.images.push_back(std::move(*r));
+  ev.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return ev;
+}
+
+}  // namespace mbest::validate
