@@ -1,0 +1,68 @@
+// Minimal bending energy pairing. At a crossing, each exit branch is summarised by a
+// tangent; the strands through the crossing are the pairing of exits whose connecting
+// paths bend least (the paper's Sec. III-F, extended from 4 exits to any number).
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "mbest/core/junctions.h"
+#include "mbest/core/keypoints.h"
+
+namespace mbest {
+
+// Where a path through a crossing leaves a branch, and the branch's direction there.
+struct BranchTangent {
+  cv::Point2f point;      // the branch pixel where the path through the crossing attaches
+  cv::Point2f direction;  // unit, pointing away from the crossing
+  int cut = 0;            // pixels of the branch (from the crossing side) the path replaces
+  float radius = 0;       // median radius of the fitted stretch
+};
+
+// Fits the tangent of `end`'s branch: the skeleton near a junction bends towards it, so
+// the first `cut_length` px are skipped and a line is fitted (total least squares) to the
+// next `fit_length` px, never using more than half of a branch that ends in another
+// crossing (`shared` = true).
+BranchTangent fit_branch_tangent(const SkeletonGraph& graph, BranchEnd end, double cut_length,
+                                 double fit_length, bool shared);
+
+// The discrete curvature of the paper, kappa = 2 |t1 x t2| / (1 + t1 . t2), for unit
+// tangents t1 (in) and t2 (out); it grows without bound as the path turns back.
+double discrete_curvature(cv::Point2f t1, cv::Point2f t2);
+
+// Bending energy of the path that enters the crossing along `in` and leaves along `out`:
+// a discrete rod through in.point and out.point, with the chord between them as its middle
+// edge, bending kappa_in at in.point and kappa_out at out.point; energy = kappa_in^2 +
+// kappa_out^2. It accounts for both the turn and the sideways offset of the two branches.
+double bending_energy(const BranchTangent& in, const BranchTangent& out);
+
+// The pairing of exits (indices into `exits`) with the least total energy. With an odd
+// number of exits one is left unpaired (the strand that ends there). Exhaustive up to 10
+// exits (945 pairings), greedy beyond.
+std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits);
+
+}  // namespace mbest
+
+namespace mbest {
+
+// A strand through a crossing: the path joining two paired exits of one crossing region.
+struct Passage {
+  int region = -1;                // index into the crossing regions
+  BranchEnd from, to;             // the paired exits
+  BranchTangent from_tangent, to_tangent;
+  std::vector<cv::Point> path;    // 8-connected, from from_tangent.point to to_tangent.point
+  std::vector<float> radius;      // per path pixel, interpolated between the two exits
+  double energy = 0;              // bending energy of the path
+};
+
+// The bending stage: for every crossing region, the tangents of its exits and the pairing
+// of least total energy; one Passage per pair (a region with two exits, a bend the
+// skeleton made into a junction, gets its single forced passage). Tangents skip `cut_length`
+// px next to the crossing and are fitted over the next `fit_length` px.
+std::vector<Passage> build_passages(const SkeletonGraph& graph,
+                                    const std::vector<CrossingRegion>& regions,
+                                    double cut_length, double fit_length);
+
+}  // namespace mbest

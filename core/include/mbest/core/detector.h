@@ -1,0 +1,62 @@
+// The mBEST detector: binary mask (and optionally the colour image) in, ordered DLO
+// centerlines, crossings and an instance label image out.
+// Coordinates are pixels, x to the right, y down; cv::Point(x, y).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "mbest/core/result.h"
+
+namespace mbest {
+
+// One crossing: where two (or more) strands pass over each other.
+struct Crossing {
+  cv::Point2f location;  // crossing centre, pixels
+  double angle_deg = 0;  // smallest angle between the strands' tangents, in [0, 90]
+  // DLO indices of the strands, top first. A self-crossing lists the same DLO twice.
+  std::vector<int> dlos;
+};
+
+// One deformable linear object.
+struct Dlo {
+  // Ordered 8-connected pixels from one end to the other. For a closed DLO (a ring) the
+  // last pixel is 8-adjacent to the first and no pixel is repeated at the seam.
+  std::vector<cv::Point> centerline;
+  std::vector<float> radius;  // radius in pixels at each centerline pixel (same length)
+  bool closed = false;
+  std::vector<int> crossings;  // indices into Detection::crossings, in traversal order
+};
+
+struct StageTime {
+  std::string stage;
+  double ms = 0;
+};
+
+struct Detection {
+  std::vector<Dlo> dlos;
+  std::vector<Crossing> crossings;
+  // CV_16UC1, the mask's size: 0 = background, i + 1 = dlos[i]. Every mask pixel reached
+  // from a centerline belongs to one DLO; crossing pixels belong to the DLO on top.
+  cv::Mat labels;
+  std::vector<StageTime> timings;  // one entry per pipeline stage, in order
+  double total_ms() const;
+};
+
+// Every length is in units of r, the widest DLO's radius, measured on the mask: the
+// detector has no hyperparameter in pixels.
+struct DetectorConfig {
+  double min_dlo_length_radii = 3.0;  // shorter traversals are mask noise, not DLOs
+  double cut_radii = 1.0;  // skeleton next to a crossing replaced by the path through it
+  double fit_radii = 3.0;  // stretch of branch a crossing tangent is fitted to
+};
+
+// Runs the whole pipeline on `mask` (CV_8UC1, non-zero = DLO). `bgr` (CV_8UC3, same size)
+// is used for crossing order; without it, the straighter strand is taken as on top.
+// Errors (wrong type, size mismatch, empty image) name the offending argument.
+Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr = cv::Mat(),
+                         const DetectorConfig& config = DetectorConfig());
+
+}  // namespace mbest

@@ -1,0 +1,33 @@
+// Junction clustering, Y-pair matching and X replacement: the junction nodes of a skeleton
+// are grouped into crossings, each the meeting point of the branches of one topological
+// crossing, whatever shape the skeleton gave it (one X, two Ys, or several small nodes).
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "mbest/core/keypoints.h"
+
+namespace mbest {
+
+struct CrossingRegion {
+  std::vector<int> nodes;           // junction nodes merged into this crossing
+  std::vector<int> inner_branches;  // branches inside it (the segment joining two Ys, ...)
+  std::vector<BranchEnd> exits;     // the branches that leave it
+  cv::Point2f centre;               // mean of the merged junctions' centres
+};
+
+// Groups the junction nodes of `graph`:
+// 1. junctions joined by a branch no longer than `merge_length` (about one radius) are one
+//    crossing (three DLOs through one point give several such small junctions);
+// 2. a branch that leaves and re-enters the same crossing within 4 `merge_length` is inside
+//    it (a hole in the mask makes such a small cycle);
+// 3. crossings with an odd number of exits (Ys) are paired, closest first along the branch
+//    joining them, while that branch is no longer than `epsilon` (the paper's 10 r): the
+//    pair is one X-crossing and the joining branch is inside it.
+// Branches made inner are marked dead in `graph`.
+std::vector<CrossingRegion> group_junctions(SkeletonGraph& graph, double merge_length,
+                                            double epsilon);
+
+}  // namespace mbest

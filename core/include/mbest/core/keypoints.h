@@ -1,0 +1,71 @@
+// Key points of a skeleton (ends and junctions) and the skeleton as a graph of them.
+// Ends are pixels with one skeleton neighbour, junction pixels have three or more;
+// junction pixels within 2 px of each other form one junction (the paper's DBSCAN, eps 2).
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "mbest/core/skeleton.h"
+
+namespace mbest {
+
+// One end of a branch: `side` 0 is the end at branch.pixels.front(), 1 at .back().
+struct BranchEnd {
+  int branch = -1;
+  int side = 0;
+  bool operator==(const BranchEnd& o) const { return branch == o.branch && side == o.side; }
+};
+
+struct Node {
+  enum class Kind { end, junction };
+  Kind kind = Kind::end;
+  std::vector<cv::Point> pixels;  // one pixel for an end, the cluster for a junction
+  cv::Point2f centre;             // mean of pixels
+  std::vector<BranchEnd> branch_ends;  // the branches that leave this node
+  bool alive = true;
+  int degree() const { return static_cast<int>(branch_ends.size()); }
+};
+
+struct Branch {
+  // Ordered pixels strictly between the two nodes (no node pixel). May be empty when
+  // two nodes touch.
+  std::vector<cv::Point> pixels;
+  std::vector<float> radius;  // local radius (px) at each pixel, filled by measure_radii
+  int node[2] = {-1, -1};     // node at side 0 (before pixels.front()) and side 1
+  bool alive = true;
+  double length = 0;  // arc length in px from node to node
+};
+
+struct SkeletonGraph {
+  std::vector<Node> nodes;
+  std::vector<Branch> branches;
+  std::vector<std::vector<cv::Point>> rings;  // closed chains with no node, ordered
+  std::vector<std::vector<float>> ring_radius;
+};
+
+// The ends and junction pixels of a skeleton, by the neighbour count.
+struct Keypoints {
+  std::vector<cv::Point> ends;
+  std::vector<cv::Point> junction_pixels;
+};
+Keypoints detect_keypoints(const Skeleton& skeleton);
+
+// Builds the graph of the skeleton. `skeleton.image` is used as scratch and left as it was.
+SkeletonGraph build_skeleton_graph(Skeleton& skeleton, const Keypoints& keypoints);
+
+// Euclidean distance from `p` to the nearest zero pixel of `mask` (CV_8UC1), pixels outside
+// the image counting as zero: the L2 distance transform, evaluated at one pixel.
+float distance_to_background(const cv::Mat& mask, cv::Point p);
+
+// Fills Branch::radius and SkeletonGraph::ring_radius (measured every `stride` pixels,
+// linearly interpolated between) and returns the radius of the widest DLO: the largest
+// per-branch median radius over branches of at least 5 px (junctions, where the mask is
+// wider than any DLO, do not inflate it). Returns 0 for an empty graph.
+float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride = 3);
+
+// Arc length of an 8-connected pixel chain (1 per straight step, sqrt 2 per diagonal).
+double chain_length(const std::vector<cv::Point>& pixels);
+
+}  // namespace mbest

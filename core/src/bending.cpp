@@ -1,0 +1,184 @@
+#include "mbest/core/bending.h"
+
+#include "mbest/core/geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mbest {
+namespace {
+
+cv::Point2f unit(cv::Point2f v) {
+  const float n = std::hypot(v.x, v.y);
+  return n > 0 ? v * (1.0f / n) : cv::Point2f(0, 0);
+}
+
+// Exhaustive search over pairings; `left` = exits not yet paired, `singles` = how many may
+// stay unpaired.
+void search(const std::vector<std::vector<double>>& e, std::vector<int>& left, int singles,
+            double cost, std::vector<std::pair<int, int>>& cur, double& best_cost,
+            std::vector<std::pair<int, int>>& best) {
+  if (cost >= best_cost) return;
+  if (left.empty()) {
+    best_cost = cost;
+    best = cur;
+    return;
+  }
+  const int a = left.back();
+  left.pop_back();
+  for (size_t k = 0; k < left.size(); ++k) {
+    const int b = left[k];
+    left.erase(left.begin() + static_cast<long>(k));
+    cur.emplace_back(a, b);
+    search(e, left, singles, cost + e[a][b], cur, best_cost, best);
+    cur.pop_back();
+    left.insert(left.begin() + static_cast<long>(k), b);
+  }
+  if (singles > 0) search(e, left, singles - 1, cost, cur, best_cost, best);
+  left.push_back(a);
+}
+
+}  // namespace
+
+BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double cut_length,
+                                 double fit_length, bool shared) {
+  const Branch& b = g.branches[end.branch];
+  const int n = static_cast<int>(b.pixels.size());
+  auto px = [&](int i) { return end.side == 0 ? b.pixels[i] : b.pixels[n - 1 - i]; };
+  auto rad = [&](int i) { return end.side == 0 ? b.radius[i] : b.radius[n - 1 - i]; };
+
+  BranchTangent t;
+  const cv::Point2f node_centre = g.nodes[b.node[end.side]].centre;
+  if (n == 0) {
+    const cv::Point2f other = g.nodes[b.node[1 - end.side]].centre;
+    t.point = node_centre;
+    t.direction = unit(other - node_centre);
+    return t;
+  }
+  const int usable = shared ? std::max(1, n / 2) : n;
+  const int cut = std::min(static_cast<int>(std::lround(cut_length)), usable - 1);
+  const int last = std::min(usable - 1, cut + std::max(2, static_cast<int>(std::lround(fit_length))));
+  t.cut = cut;
+  t.point = cv::Point2f(px(cut));
+
+  // Total least squares line through px(cut..last).
+  double mx = 0, my = 0;
+  const int m = last - cut + 1;
+  for (int i = cut; i <= last; ++i) {
+    mx += px(i).x;
+    my += px(i).y;
+  }
+  mx /= m;
+  my /= m;
+  double sxx = 0, sxy = 0, syy = 0;
+  for (int i = cut; i <= last; ++i) {
+    const double dx = px(i).x - mx, dy = px(i).y - my;
+    sxx += dx * dx;
+    sxy += dx * dy;
+    syy += dy * dy;
+  }
+  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+  cv::Point2f dir(static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)));
+  // Orient away from the crossing: along the chain from its first to its last fitted pixel,
+  // or, for a stretch too short to say, from the junction to the attachment point.
+  cv::Point2f along = cv::Point2f(px(last)) - cv::Point2f(px(cut));
+  if (m < 3 || along.dot(along) < 4) along = cv::Point2f(px(last)) - node_centre;
+  if (dir.dot(along) < 0) dir = -dir;
+  if (m < 2 || sxx + syy == 0) dir = unit(along);
+  t.direction = dir;
+
+  std::vector<float> r;
+  for (int i = cut; i <= last; ++i) r.push_back(rad(i));
+  std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+  t.radius = r[r.size() / 2];
+  return t;
+}
+
+double discrete_curvature(cv::Point2f t1, cv::Point2f t2) {
+  const double cross = std::abs(static_cast<double>(t1.x) * t2.y - static_cast<double>(t1.y) * t2.x);
+  const double dot = static_cast<double>(t1.x) * t2.x + static_cast<double>(t1.y) * t2.y;
+  // 2 sin(phi) / (1 + cos(phi)) = 2 tan(phi / 2), written with the turning angle phi so
+  // that a full turn back (cross = 0, dot = -1) is the largest value, not 0 / 0.
+  const double phi = std::min(std::atan2(cross, dot), M_PI - 1e-4);
+  return 2 * std::tan(phi / 2);
+}
+
+double bending_energy(const BranchTangent& in, const BranchTangent& out) {
+  const cv::Point2f t_in = -in.direction;  // travelling into the crossing
+  const cv::Point2f t_out = out.direction;
+  cv::Point2f chord = out.point - in.point;
+  if (chord.dot(chord) < 1e-6) chord = t_in + t_out;
+  const cv::Point2f t_mid = unit(chord);
+  const double k1 = discrete_curvature(t_in, t_mid), k2 = discrete_curvature(t_mid, t_out);
+  return k1 * k1 + k2 * k2;
+}
+
+std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits) {
+  const int n = static_cast<int>(exits.size());
+  std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      e[a][b] = e[b][a] = 0.5 * (bending_energy(exits[a], exits[b]) + bending_energy(exits[b], exits[a]));
+
+  std::vector<std::pair<int, int>> best;
+  if (n <= 10) {
+    std::vector<int> left(n);
+    for (int i = 0; i < n; ++i) left[i] = i;
+    std::vector<std::pair<int, int>> cur;
+    double best_cost = std::numeric_limits<double>::infinity();
+    search(e, left, n % 2, 0, cur, best_cost, best);
+    return best;
+  }
+  std::vector<std::pair<double, std::pair<int, int>>> all;
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) all.push_back({e[a][b], {a, b}});
+  std::sort(all.begin(), all.end());
+  std::vector<bool> used(n, false);
+  for (const auto& [cost, p] : all)
+    if (!used[p.first] && !used[p.second] && static_cast<int>(best.size()) < n / 2) {
+      used[p.first] = used[p.second] = true;
+      best.push_back(p);
+    }
+  return best;
+}
+
+}  // namespace mbest
+
+namespace mbest {
+
+std::vector<Passage> build_passages(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
+                                    double cut_length, double fit_length) {
+  std::vector<Passage> passages;
+  for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
+    const CrossingRegion& region = regions[r];
+    if (region.exits.size() < 2) continue;
+    std::vector<BranchTangent> tangents;
+    for (const BranchEnd& e : region.exits) {
+      const Branch& b = g.branches[e.branch];
+      const bool shared = g.nodes[b.node[1 - e.side]].kind == Node::Kind::junction;
+      tangents.push_back(fit_branch_tangent(g, e, cut_length, fit_length, shared));
+    }
+    for (const auto& [i, j] : min_energy_pairing(tangents)) {
+      Passage p;
+      p.region = r;
+      p.from = region.exits[i];
+      p.to = region.exits[j];
+      p.from_tangent = tangents[i];
+      p.to_tangent = tangents[j];
+      p.energy = bending_energy(tangents[i], tangents[j]);
+      p.path = hermite_path(tangents[i].point, -tangents[i].direction, tangents[j].point,
+                            tangents[j].direction);
+      const size_t n = p.path.size();
+      p.radius.resize(n);
+      for (size_t k = 0; k < n; ++k) {
+        const float t = n > 1 ? static_cast<float>(k) / static_cast<float>(n - 1) : 0.f;
+        p.radius[k] = tangents[i].radius * (1 - t) + tangents[j].radius * t;
+      }
+      passages.push_back(std::move(p));
+    }
+  }
+  return passages;
+}
+
+}  // namespace mbest

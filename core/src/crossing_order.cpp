@@ -1,0 +1,54 @@
+#include "mbest/core/crossing_order.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mbest {
+
+double colour_spread(const cv::Mat& bgr, const std::vector<cv::Point>& path) {
+  if (path.empty() || bgr.empty()) return 0;
+  double sum[3] = {0, 0, 0}, sq[3] = {0, 0, 0};
+  int n = 0;
+  for (const cv::Point& p : path) {
+    if (p.x < 0 || p.y < 0 || p.x >= bgr.cols || p.y >= bgr.rows) continue;
+    double acc[3] = {0, 0, 0};
+    int count = 0;
+    for (int y = std::max(0, p.y - 2); y <= std::min(bgr.rows - 1, p.y + 2); ++y) {
+      const cv::Vec3b* row = bgr.ptr<cv::Vec3b>(y);
+      for (int x = std::max(0, p.x - 2); x <= std::min(bgr.cols - 1, p.x + 2); ++x) {
+        for (int c = 0; c < 3; ++c) acc[c] += row[x][c];
+        ++count;
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+      const double v = acc[c] / count;
+      sum[c] += v;
+      sq[c] += v * v;
+    }
+    ++n;
+  }
+  if (n == 0) return 0;
+  double spread = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double mean = sum[c] / n;
+    spread += std::sqrt(std::max(0.0, sq[c] / n - mean * mean));
+  }
+  return spread;
+}
+
+std::vector<std::vector<int>> order_crossings(const std::vector<Passage>& passages, int region_count,
+                                              const cv::Mat& bgr) {
+  std::vector<std::vector<int>> by_region(region_count);
+  for (int i = 0; i < static_cast<int>(passages.size()); ++i) by_region[passages[i].region].push_back(i);
+  std::vector<std::vector<int>> ordered;
+  std::vector<double> score(passages.size(), 0);
+  for (auto& list : by_region) {
+    if (list.size() < 2) continue;
+    for (int i : list) score[i] = bgr.empty() ? passages[i].energy : colour_spread(bgr, passages[i].path);
+    std::stable_sort(list.begin(), list.end(), [&](int a, int b) { return score[a] < score[b]; });
+    ordered.push_back(list);
+  }
+  return ordered;
+}
+
+}  // namespace mbest

@@ -1,0 +1,148 @@
+#include "mbest/core/detector.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "mbest/core/bending.h"
+#include "mbest/core/crossing_order.h"
+#include "mbest/core/instance_mask.h"
+#include "mbest/core/junctions.h"
+#include "mbest/core/keypoints.h"
+#include "mbest/core/prune.h"
+#include "mbest/core/skeleton.h"
+#include "mbest/core/traverse.h"
+
+namespace mbest {
+namespace {
+
+// Runs one stage and records its wall time under `name`.
+class StageClock {
+ public:
+  explicit StageClock(std::vector<StageTime>& out) : out_(out) {}
+  template <class F>
+  auto operator()(const char* name, F&& f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    struct Record {
+      std::vector<StageTime>& out;
+      const char* name;
+      std::chrono::steady_clock::time_point t0;
+      ~Record() {
+        out.push_back({name, std::chrono::duration<double, std::milli>(
+                                 std::chrono::steady_clock::now() - t0).count()});
+      }
+    } record{out_, name, t0};
+    return f();
+  }
+
+ private:
+  std::vector<StageTime>& out_;
+};
+
+double line_angle_deg(cv::Point2f a, cv::Point2f b) {
+  const double angle = std::abs(std::atan2(a.x * b.y - a.y * b.x, a.dot(b))) * 180.0 / M_PI;
+  return angle > 90 ? 180 - angle : angle;
+}
+
+cv::Point2f direction(const Passage& p) {
+  return p.to_tangent.point - p.from_tangent.point;
+}
+
+// Closest approach of two paths: the midpoint of their closest pixels.
+cv::Point2f closest_approach(const std::vector<cv::Point>& a, const std::vector<cv::Point>& b,
+                             cv::Point2f fallback) {
+  int best = std::numeric_limits<int>::max();
+  cv::Point2f at = fallback;
+  for (const cv::Point& p : a)
+    for (const cv::Point& q : b) {
+      const int d = (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y);
+      if (d < best) {
+        best = d;
+        at = (cv::Point2f(p) + cv::Point2f(q)) * 0.5f;
+      }
+    }
+  return at;
+}
+
+// Fills Detection::crossings and Dlo::crossings, and lists the strands to draw on top.
+std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passage>& passages,
+                                        const std::vector<CrossingRegion>& regions,
+                                        const Traversal& tr,
+                                        const std::vector<std::vector<int>>& ordered) {
+  std::vector<TopStrand> tops;
+  std::vector<int> crossing_of(passages.size(), -1);
+  for (const std::vector<int>& list : ordered) {
+    std::vector<int> strands;
+    for (int p : list)
+      if (tr.passage_dlo[p] >= 0) strands.push_back(p);
+    if (strands.size() < 2) continue;
+    Crossing c;
+    const cv::Point2f centre = regions[passages[strands[0]].region].centre;
+    c.location = closest_approach(passages[strands[0]].path, passages[strands[1]].path, centre);
+    c.angle_deg = 90;
+    for (size_t i = 0; i < strands.size(); ++i) {
+      c.dlos.push_back(tr.passage_dlo[strands[i]]);
+      crossing_of[strands[i]] = static_cast<int>(det.crossings.size());
+      for (size_t j = i + 1; j < strands.size(); ++j)
+        c.angle_deg = std::min(c.angle_deg, line_angle_deg(direction(passages[strands[i]]),
+                                                           direction(passages[strands[j]])));
+    }
+    det.crossings.push_back(std::move(c));
+    for (size_t i = strands.size() - 1; i-- > 0;) {  // bottom to top, the bottom one not drawn
+      const Passage& p = passages[strands[i]];
+      tops.push_back({tr.passage_dlo[strands[i]], p.path, p.radius});
+    }
+  }
+  for (size_t d = 0; d < det.dlos.size(); ++d)
+    for (int p : tr.dlo_passages[d])
+      if (crossing_of[p] >= 0) det.dlos[d].crossings.push_back(crossing_of[p]);
+  return tops;
+}
+
+}  // namespace
+
+double Detection::total_ms() const {
+  double t = 0;
+  for (const StageTime& s : timings) t += s.ms;
+  return t;
+}
+
+Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const DetectorConfig& config) {
+  if (mask.empty()) return Error{"mask is empty (0 x 0)"};
+  if (mask.type() != CV_8UC1)
+    return Error{"mask must be 8-bit single-channel (CV_8UC1), got type " + std::to_string(mask.type())};
+  if (!bgr.empty() && bgr.type() != CV_8UC3)
+    return Error{"image must be 8-bit 3-channel (CV_8UC3), got type " + std::to_string(bgr.type())};
+  if (!bgr.empty() && bgr.size() != mask.size())
+    return Error{"mask is " + std::to_string(mask.cols) + "x" + std::to_string(mask.rows) +
+                 " but the image is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows)};
+  if (config.min_dlo_length_radii < 0 || config.cut_radii < 0 || config.fit_radii <= 0)
+    return Error{"detector config: lengths must be positive"};
+
+  Detection det;
+  StageClock stage(det.timings);
+  Skeleton skeleton = stage("skeleton", [&] { return skeletonize(mask); });
+  float r = 0;
+  SkeletonGraph graph = stage("keypoints", [&] {
+    SkeletonGraph g = build_skeleton_graph(skeleton, detect_keypoints(skeleton));
+    r = std::max(1.0f, measure_radii(g, mask));
+    return g;
+  });
+  stage("prune", [&] { return prune_split_ends(graph, 2 * r); });
+  auto regions = stage("junctions", [&] { return group_junctions(graph, r, 10 * r); });
+  auto passages = stage("bending", [&] {
+    return build_passages(graph, regions, config.cut_radii * r, config.fit_radii * r);
+  });
+  Traversal traversal = stage("traverse", [&] {
+    return traverse(graph, passages, config.min_dlo_length_radii * r);
+  });
+  auto ordered = stage("crossing_order", [&] {
+    return order_crossings(passages, static_cast<int>(regions.size()), bgr);
+  });
+  det.dlos = std::move(traversal.dlos);
+  auto tops = record_crossings(det, passages, regions, traversal, ordered);
+  det.labels = stage("instance_mask", [&] { return instance_labels(mask, det.dlos, tops); });
+  return det;
+}
+
+}  // namespace mbest

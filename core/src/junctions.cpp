@@ -1,0 +1,117 @@
+#include "mbest/core/junctions.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace mbest {
+namespace {
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  void unite(int a, int b) { parent[find(a)] = find(b); }
+};
+
+bool joins_junctions(const SkeletonGraph& g, const Branch& b) {
+  return g.nodes[b.node[0]].kind == Node::Kind::junction &&
+         g.nodes[b.node[1]].kind == Node::Kind::junction;
+}
+
+}  // namespace
+
+std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_length, double epsilon) {
+  const int n_nodes = static_cast<int>(g.nodes.size());
+  UnionFind uf(n_nodes);
+  auto make_inner = [&](Branch& b) { b.alive = false; };
+
+  for (Branch& b : g.branches)
+    if (b.alive && joins_junctions(g, b) && b.length <= merge_length) {
+      uf.unite(b.node[0], b.node[1]);
+      make_inner(b);
+    }
+
+  // Exits per crossing, with small cycles folded in.
+  auto degree_of = [&](std::vector<int>& degree) {
+    degree.assign(n_nodes, 0);
+    for (Branch& b : g.branches) {
+      if (!b.alive || !joins_junctions(g, b)) {
+        if (b.alive)
+          for (int s = 0; s < 2; ++s)
+            if (g.nodes[b.node[s]].kind == Node::Kind::junction) ++degree[uf.find(b.node[s])];
+        continue;
+      }
+      const int r0 = uf.find(b.node[0]), r1 = uf.find(b.node[1]);
+      if (r0 == r1 && b.length <= 4 * merge_length) {
+        make_inner(b);
+        continue;
+      }
+      ++degree[r0];
+      ++degree[r1];
+    }
+  };
+  std::vector<int> degree;
+  degree_of(degree);
+
+  // Y-pair matching: odd crossings joined by one branch, shortest first, each paired once.
+  std::vector<int> order;
+  for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
+    const Branch& b = g.branches[i];
+    if (b.alive && joins_junctions(g, b) && b.length <= epsilon) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return g.branches[a].length < g.branches[b].length; });
+  std::vector<bool> paired(n_nodes, false);
+  for (int i : order) {
+    Branch& b = g.branches[i];
+    const int r0 = uf.find(b.node[0]), r1 = uf.find(b.node[1]);
+    if (r0 == r1 || paired[r0] || paired[r1] || degree[r0] % 2 == 0 || degree[r1] % 2 == 0) continue;
+    uf.unite(r0, r1);
+    const int r = uf.find(r0);
+    paired[r] = true;
+    degree[r] = degree[r0] + degree[r1] - 2;
+    make_inner(b);
+  }
+  degree_of(degree);
+
+  std::vector<int> region_of(n_nodes, -1);
+  std::vector<CrossingRegion> regions;
+  for (int n = 0; n < n_nodes; ++n) {
+    if (g.nodes[n].kind != Node::Kind::junction || !g.nodes[n].alive) continue;
+    const int root = uf.find(n);
+    if (region_of[root] < 0) {
+      region_of[root] = static_cast<int>(regions.size());
+      regions.emplace_back();
+    }
+    regions[region_of[root]].nodes.push_back(n);
+  }
+  for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
+    const Branch& b = g.branches[i];
+    for (int s = 0; s < 2; ++s) {
+      const Node& node = g.nodes[b.node[s]];
+      if (node.kind != Node::Kind::junction || !node.alive) continue;
+      CrossingRegion& r = regions[region_of[uf.find(b.node[s])]];
+      if (b.alive) {
+        r.exits.push_back({i, s});
+      } else if (s == 0 || uf.find(b.node[0]) != uf.find(b.node[1])) {
+        // A dead branch touching this crossing: an inner one unless it was a pruned spur.
+        const bool spur = g.nodes[b.node[1 - s]].kind == Node::Kind::end;
+        if (!spur) r.inner_branches.push_back(i);
+      }
+    }
+  }
+  for (CrossingRegion& r : regions) {
+    cv::Point2f c(0, 0);
+    for (int n : r.nodes) c += g.nodes[n].centre;
+    r.centre = c * (1.0f / static_cast<float>(r.nodes.size()));
+    std::sort(r.inner_branches.begin(), r.inner_branches.end());
+    r.inner_branches.erase(std::unique(r.inner_branches.begin(), r.inner_branches.end()),
+                           r.inner_branches.end());
+  }
+  return regions;
+}
+
+}  // namespace mbest
