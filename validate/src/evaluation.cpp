@@ -115,6 +115,7 @@ Result<ImageResult> evaluate_item(const DatasetItem& item, const EvalOptions& op
   r.prediction = pred.source;
   if (!pred.error.empty()) r.prediction_error = pred.error;
   r.detect_ms = pred.detect_ms;
+  r.kept_prediction = pred.labels;
   if (!pred.centerline_warning.empty()) r.warnings.push_back(pred.centerline_warning);
   return r;
 }
@@ -186,8 +187,19 @@ Result<Evaluation> evaluate(const Dataset& dataset, const EvalOptions& options,
   std::vector<std::string> errors(total);
   std::atomic<int> next{0};
   std::atomic<bool> failed{false};
-  std::mutex progress_mutex;
+  std::mutex mutex;  // guards results, errors, kept and done
+  std::vector<int> kept;  // images whose prediction is kept, at most options.keep_worst
   int done = 0;
+  const auto keep_if_worst = [&](int i) {
+    kept.push_back(i);
+    if (static_cast<int>(kept.size()) <= options.keep_worst) return;
+    // Ties go to the earlier image, as in the report's ranking of the worst.
+    const auto best = std::max_element(kept.begin(), kept.end(), [&](int a, int b) {
+      return std::make_pair(results[a]->dice.strict, a) < std::make_pair(results[b]->dice.strict, b);
+    });
+    results[*best]->kept_prediction = cv::Mat();
+    kept.erase(best);
+  };
   const auto work = [&] {
     for (int i = next++; i < total && !failed; i = next++) {
       Result<ImageResult> r = Error{""};
@@ -196,13 +208,14 @@ Result<Evaluation> evaluate(const Dataset& dataset, const EvalOptions& options,
       } catch (const std::exception& e) {
         r = Error{dataset.items[i].image + ": " + e.what()};
       }
+      std::lock_guard<std::mutex> lock(mutex);
       if (r) {
         results[i] = std::move(r).value();
+        keep_if_worst(i);
       } else {
         errors[i] = r.error().message;
         failed = true;
       }
-      std::lock_guard<std::mutex> lock(progress_mutex);
       ++done;
       if (progress) progress(done, total);
     }

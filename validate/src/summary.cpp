@@ -153,4 +153,14 @@ Summary summarise(const Evaluation& evaluation) {
   return s;
 }
 
+std::vector<int> worst_images(const Evaluation& evaluation, int k) {
+  std::vector<int> order(evaluation.images.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return evaluation.images[a].dice.strict < evaluation.images[b].dice.strict;
+  });
+  order.resize(std::min<size_t>(order.size(), static_cast<size_t>(std::max(0, k))));
+  return order;
+}
+
 }  // namespace mbest::validate

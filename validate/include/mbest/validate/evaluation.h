@@ -21,6 +21,8 @@ struct EvalOptions {
   std::string pred_dir;  // a `mbest detect --out` folder; used when run is false
   bool run = false;      // detect on the fly instead
   int threads = 2;       // images scored in parallel
+  // Keep the predicted labels of this many lowest-scoring images (for a report's gallery).
+  int keep_worst = 0;
   CrossingOptions crossing;
 };
 
@@ -43,6 +45,8 @@ struct ImageResult {
   bool has_centerlines = false;  // predicted centerlines and a synthetic ground truth
   CenterlineDistances centerline;
   double detect_ms = -1;              // with --run: the detector's total time
+  // The predicted labels, kept only for the EvalOptions::keep_worst lowest strict scores.
+  cv::Mat kept_prediction;
   std::vector<std::string> warnings;  // e.g. an unreadable prediction JSON (metric skipped)
 };
 

@@ -66,4 +66,8 @@ struct Summary {
 
 Summary summarise(const Evaluation& evaluation);
 
+// Indices into evaluation.images of the `k` lowest strict scores, lowest first (ties: the
+// earlier image first, the order evaluate() keeps predictions in).
+std::vector<int> worst_images(const Evaluation& evaluation, int k);
+
 }  // namespace mbest::validate

@@ -1,0 +1,549 @@
+#include "mbest/validate/report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "charts.h"
+
+namespace mbest::validate {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+// A rate in percent with two decimals, "-" when nothing was assessed.
+std::string rate(int correct, int assessed) {
+  return assessed == 0 ? "-" : fixed(100.0 * correct / assessed, 2);
+}
+
+std::string distance(const DistanceSummary& d) {
+  return d.count == 0 ? "-" : fixed(d.mean, 2) + " / " + fixed(d.p95, 2);
+}
+
+bool synthetic(const Evaluation& e) { return e.dataset.synthetic; }
+
+std::string prediction_source(const Evaluation& e) {
+  return e.options.run ? "computed with --run (colour_filter -> detect)" : e.options.pred_dir;
+}
+
+// ---- Rows shared by the terminal table, Markdown and HTML -------------------------------
+
+using Row = std::vector<std::string>;
+
+Row dice_header() {
+  return {"tier", "images", "strict DICE %", "std", "lenient %", "below 90", "below 95",
+          "count errors"};
+}
+Row dice_row(const TierSummary& t) {
+  return {t.tier,
+          std::to_string(t.images),
+          fixed(t.strict_mean, 2),
+          fixed(t.strict_std, 2),
+          fixed(t.lenient_mean, 2),
+          std::to_string(t.below_90),
+          std::to_string(t.below_95),
+          std::to_string(t.count_errors)};
+}
+Row crossing_header() {
+  return {"tier", "crossings", "pairing %", "(assessed)", "order %", "(assessed)",
+          "centerline pred->GT mean/p95 px", "GT->pred mean/p95 px"};
+}
+Row crossing_row(const TierSummary& t) {
+  return {t.tier,
+          std::to_string(t.crossings),
+          rate(t.pairing_correct, t.pairing_assessed),
+          std::to_string(t.pairing_assessed),
+          rate(t.order_correct, t.order_assessed),
+          std::to_string(t.order_assessed),
+          t.has_centerlines ? distance(t.pred_to_gt) : "-",
+          t.has_centerlines ? distance(t.gt_to_pred) : "-"};
+}
+std::vector<Row> dice_rows(const Summary& s) {
+  std::vector<Row> rows;
+  for (const TierSummary& t : s.tiers) rows.push_back(dice_row(t));
+  if (s.tiers.size() > 1) rows.push_back(dice_row(s.all));
+  return rows;
+}
+std::vector<Row> crossing_rows(const Summary& s) {
+  std::vector<Row> rows;
+  for (const TierSummary& t : s.tiers) rows.push_back(crossing_row(t));
+  if (s.tiers.size() > 1) rows.push_back(crossing_row(s.all));
+  return rows;
+}
+Row bin_header(const std::string& figure) {
+  return {figure, "pairing %", "(assessed)", "order %", "(assessed)"};
+}
+std::vector<Row> bin_rows(const std::vector<RateBin>& pairing, const std::vector<RateBin>& order) {
+  std::vector<Row> rows;
+  for (size_t i = 0; i < pairing.size(); ++i)
+    rows.push_back({pairing[i].bin.label, rate(pairing[i].correct, pairing[i].assessed),
+                    std::to_string(pairing[i].assessed), rate(order[i].correct, order[i].assessed),
+                    std::to_string(order[i].assessed)});
+  return rows;
+}
+std::vector<Row> mean_rows(const std::vector<MeanBin>& bins) {
+  std::vector<Row> rows;
+  for (const MeanBin& b : bins)
+    rows.push_back({b.bin.label, b.count ? fixed(100 * b.mean, 2) : "-", std::to_string(b.count)});
+  return rows;
+}
+Row worst_header() { return {"image", "strict %", "lenient %", "n", "m", "note"}; }
+Row worst_row(const ImageResult& r) {
+  std::string note = r.prediction_error;
+  for (const std::string& w : r.warnings) note += (note.empty() ? "" : "; ") + w;
+  return {r.item.tier + "/" + r.item.stem, fixed(100 * r.dice.strict, 2),
+          fixed(100 * r.dice.lenient, 2), std::to_string(r.dice.n), std::to_string(r.dice.m), note};
+}
+
+std::string text_table(const Row& header, const std::vector<Row>& rows) {
+  std::vector<size_t> width(header.size());
+  for (size_t c = 0; c < header.size(); ++c) {
+    width[c] = header[c].size();
+    for (const Row& r : rows) width[c] = std::max(width[c], r[c].size());
+  }
+  std::ostringstream out;
+  const auto line = [&](const Row& r) {
+    for (size_t c = 0; c < r.size(); ++c) {
+      const std::string pad(width[c] - r[c].size(), ' ');
+      out << (c ? "  " : "") << (c ? pad + r[c] : r[c] + pad);  // names left, numbers right
+    }
+    out << "\n";
+  };
+  line(header);
+  for (const Row& r : rows) line(r);
+  return out.str();
+}
+
+std::string markdown_table(const Row& header, const std::vector<Row>& rows) {
+  std::ostringstream out;
+  const auto line = [&](const Row& r) {
+    out << "|";
+    for (const std::string& cell : r) out << " " << cell << " |";
+    out << "\n";
+  };
+  line(header);
+  out << "|";
+  for (size_t c = 0; c < header.size(); ++c) out << (c ? "---:|" : "---|");
+  out << "\n";
+  for (const Row& r : rows) line(r);
+  return out.str();
+}
+
+std::string html_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '&': out += "&amp;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string html_table(const Row& header, const std::vector<Row>& rows) {
+  std::ostringstream out;
+  out << "<table><thead><tr>";
+  for (const std::string& h : header) out << "<th>" << html_escape(h) << "</th>";
+  out << "</tr></thead><tbody>\n";
+  for (const Row& r : rows) {
+    out << "<tr>";
+    for (size_t c = 0; c < r.size(); ++c)
+      out << (c ? "<td class=num>" : "<td>") << html_escape(r[c]) << "</td>";
+    out << "</tr>\n";
+  }
+  out << "</tbody></table>\n";
+  return out.str();
+}
+
+std::string definitions(const Evaluation& e) {
+  std::ostringstream out;
+  out << "Matched DICE as ../shared/docs/metrics.md defines it: D = 2|G∩P| / (|G|+|P|), GT "
+         "instances matched one-to-one to predicted ones maximising the total D (Hungarian); "
+         "strict = sum / max(n, m), lenient = sum / n; a missing prediction scores 0. Tier "
+         "figures: mean over images in percent, population standard deviation, images with a "
+         "strict score below 90 % and 95 %, images with n != m.";
+  if (synthetic(e))
+    out << " Crossings: a strand is sampled at the first centerline point at least 1.5 widths "
+           "of arc from the crossing, clear of the other strand and visible in the ground truth; "
+           "pairing is correct when each strand keeps one predicted label across the crossing "
+           "and two rods keep different labels; order is correct when the predicted label at "
+           "the crossing is the one matched to the top rod (not assessed for self-crossings). "
+           "Curvature complexity: total absolute turning of the rod (total_turning_rad, "
+           "radians), a crossing takes the larger of its rods'; bins 0-1.57, 1.57-3.14, "
+           "3.14-6.28, 6.28-12.57, 12.57+. Angle bins 0-10, 10-20, 20-45, 45-90 degrees. "
+           "Centerline error: pixel distance from each predicted centerline point to the matched "
+           "rod's ground-truth centerline and back, pooled per tier; p95 interpolated.";
+  return out.str();
+}
+
+// ---- JSON ---------------------------------------------------------------------------------
+
+json tier_json(const TierSummary& t) {
+  json j = {{"tier", t.tier},
+            {"images", t.images},
+            {"strict_dice_pct", t.strict_mean},
+            {"strict_dice_std_pct", t.strict_std},
+            {"lenient_dice_pct", t.lenient_mean},
+            {"lenient_dice_std_pct", t.lenient_std},
+            {"below_90", t.below_90},
+            {"below_95", t.below_95},
+            {"count_errors", t.count_errors},
+            {"missing_predictions", t.missing_predictions},
+            {"crossings", {{"total", t.crossings},
+                           {"pairing_assessed", t.pairing_assessed},
+                           {"pairing_correct", t.pairing_correct},
+                           {"order_assessed", t.order_assessed},
+                           {"order_correct", t.order_correct}}}};
+  if (t.has_centerlines)
+    j["centerline_px"] = {
+        {"pred_to_gt", {{"mean", t.pred_to_gt.mean}, {"p95", t.pred_to_gt.p95}, {"points", t.pred_to_gt.count}}},
+        {"gt_to_pred", {{"mean", t.gt_to_pred.mean}, {"p95", t.gt_to_pred.p95}, {"points", t.gt_to_pred.count}}}};
+  if (t.detect_ms_median >= 0) j["detect_ms_median"] = t.detect_ms_median;
+  return j;
+}
+
+json rate_bins_json(const std::vector<RateBin>& bins) {
+  json out = json::array();
+  for (const RateBin& b : bins)
+    out.push_back({{"bin", b.bin.label}, {"lo", b.bin.lo}, {"hi", std::isinf(b.bin.hi) ? json() : json(b.bin.hi)},
+                   {"assessed", b.assessed}, {"correct", b.correct},
+                   {"rate_pct", b.assessed ? json(100.0 * b.correct / b.assessed) : json()}});
+  return out;
+}
+
+json mean_bins_json(const std::vector<MeanBin>& bins) {
+  json out = json::array();
+  for (const MeanBin& b : bins)
+    out.push_back({{"bin", b.bin.label}, {"lo", b.bin.lo}, {"hi", std::isinf(b.bin.hi) ? json() : json(b.bin.hi)},
+                   {"count", b.count}, {"mean_pct", b.count ? json(100 * b.mean) : json()}});
+  return out;
+}
+
+json image_json(const ImageResult& r) {
+  json instances = json::array();
+  for (size_t i = 0; i < r.dice.gt_ids.size(); ++i)
+    instances.push_back({{"gt", r.dice.gt_ids[i]}, {"pred", r.dice.matched_pred[i]},
+                         {"dice", r.dice.matched_dice[i]}});
+  json j = {{"tier", r.item.tier},
+            {"stem", r.item.stem},
+            {"image", r.item.image},
+            {"labels", r.item.labels},
+            {"prediction", r.prediction},
+            {"prediction_error", r.prediction_error},
+            {"n", r.dice.n},
+            {"m", r.dice.m},
+            {"strict", r.dice.strict},
+            {"lenient", r.dice.lenient},
+            {"count_error", r.dice.count_error()},
+            {"instances", instances},
+            {"warnings", r.warnings}};
+  if (!r.item.annotation.empty()) {
+    j["annotation"] = r.item.annotation;
+    json rods = json::array();
+    for (const RodResult& rod : r.rods)
+      rods.push_back({{"id", rod.id}, {"width_px", rod.width_px},
+                      {"total_turning_rad", rod.complexity}, {"pred", rod.matched_pred},
+                      {"dice", rod.dice}});
+    j["rods"] = rods;
+    json crossings = json::array();
+    for (const CrossingResolution& c : r.crossings)
+      crossings.push_back({{"index", c.index}, {"rods", {c.rod_a, c.rod_b}}, {"top", c.top},
+                           {"angle_deg", c.angle_deg}, {"complexity", c.complexity},
+                           {"labels", {{"a_before", c.a_before}, {"a_after", c.a_after},
+                                       {"b_before", c.b_before}, {"b_after", c.b_after},
+                                       {"at_crossing", c.at_crossing}}},
+                           {"pairing_assessed", c.pairing_assessed},
+                           {"pairing_correct", c.pairing_correct},
+                           {"order_assessed", c.order_assessed},
+                           {"order_correct", c.order_correct}, {"note", c.note}});
+    j["crossings"] = crossings;
+  }
+  if (r.has_centerlines) {
+    const DistanceSummary p2g = summarise(r.centerline.pred_to_gt);
+    const DistanceSummary g2p = summarise(r.centerline.gt_to_pred);
+    j["centerline_px"] = {{"pred_to_gt", {{"mean", p2g.mean}, {"p95", p2g.p95}, {"points", p2g.count}}},
+                          {"gt_to_pred", {{"mean", g2p.mean}, {"p95", g2p.p95}, {"points", g2p.count}}}};
+  }
+  if (r.detect_ms >= 0) j["detect_ms"] = r.detect_ms;
+  return j;
+}
+
+// ---- Gallery ------------------------------------------------------------------------------
+
+const cv::Vec3b kPalette[] = {{60, 180, 75},  {200, 130, 0}, {48, 130, 245}, {180, 30, 145},
+                              {240, 240, 70}, {75, 25, 230}, {0, 128, 128},  {255, 190, 230}};
+const cv::Vec3b kUnmatched(255, 0, 255), kMissed(40, 40, 230), kWrong(0, 200, 255),
+    kSpurious(255, 200, 0), kRight(150, 150, 150);
+
+// Three panels: ground truth, prediction (each predicted instance in the colour of the GT
+// instance matched to it; magenta when unmatched), and the disagreement.
+cv::Mat overlay(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat& pred_in) {
+  cv::Mat gt, pred;
+  gt_in.convertTo(gt, CV_16U);
+  pred_in.convertTo(pred, CV_16U);
+  cv::Mat image = cv::imread(r.item.image, cv::IMREAD_COLOR);
+  if (image.size() != gt.size()) image = cv::Mat(gt.size(), CV_8UC3, cv::Scalar(60, 60, 60));
+  cv::Mat base = image * 0.45;
+  cv::Mat gt_panel = base.clone(), pred_panel = base.clone(), err_panel = base * 0.5;
+  std::map<int, int> gt_index, pred_to_gt;  // label -> GT instance index
+  for (size_t i = 0; i < r.dice.gt_ids.size(); ++i) {
+    gt_index[r.dice.gt_ids[i]] = static_cast<int>(i);
+    if (r.dice.matched_pred[i]) pred_to_gt[r.dice.matched_pred[i]] = static_cast<int>(i);
+  }
+  for (int y = 0; y < gt.rows; ++y) {
+    for (int x = 0; x < gt.cols; ++x) {
+      const int g = gt.at<uint16_t>(y, x), p = pred.at<uint16_t>(y, x);
+      const int gi = g ? gt_index[g] : -1;
+      const auto it = pred_to_gt.find(p);
+      const int pi = p ? (it == pred_to_gt.end() ? -2 : it->second) : -1;
+      if (gi >= 0) gt_panel.at<cv::Vec3b>(y, x) = kPalette[gi % 8];
+      if (pi != -1) pred_panel.at<cv::Vec3b>(y, x) = pi >= 0 ? kPalette[pi % 8] : kUnmatched;
+      if (gi >= 0 || pi != -1)
+        err_panel.at<cv::Vec3b>(y, x) = gi == pi ? kRight
+                                      : gi < 0   ? kSpurious
+                                      : pi == -1 ? kMissed
+                                                 : kWrong;
+    }
+  }
+  const double scale = std::min(1.0, 320.0 / gt.cols);
+  cv::Mat out;
+  std::vector<cv::Mat> panels;
+  for (cv::Mat* m : {&gt_panel, &pred_panel, &err_panel}) {
+    cv::Mat small;
+    cv::resize(*m, small, cv::Size(), scale, scale, cv::INTER_AREA);
+    panels.push_back(small);
+    panels.push_back(cv::Mat(small.rows, 6, CV_8UC3, cv::Scalar(255, 255, 255)));
+  }
+  panels.pop_back();
+  cv::hconcat(panels, out);
+  return out;
+}
+
+std::string chart_img(const std::string& png) {
+  return "<img class=chart alt=chart src=\"data:image/png;base64," + base64(png) + "\">\n";
+}
+
+ChartSeries rate_series(const std::string& name, const std::vector<RateBin>& bins) {
+  ChartSeries s{name, {}, {}};
+  for (const RateBin& b : bins) {
+    s.percent.push_back(b.assessed ? 100.0 * b.correct / b.assessed : NAN);
+    s.counts.push_back(b.assessed);
+  }
+  return s;
+}
+
+ChartSeries mean_series(const std::string& name, const std::vector<MeanBin>& bins) {
+  ChartSeries s{name, {}, {}};
+  for (const MeanBin& b : bins) {
+    s.percent.push_back(b.count ? 100 * b.mean : NAN);
+    s.counts.push_back(b.count);
+  }
+  return s;
+}
+
+template <class B>
+std::vector<std::string> labels_of(const std::vector<B>& bins) {
+  std::vector<std::string> out;
+  for (const B& b : bins) out.push_back(b.bin.label);
+  return out;
+}
+
+Status write_atomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) return Error{tmp.string() + ": cannot open for writing"};
+    out << text;
+    out.close();
+    if (!out) {
+      std::error_code ignored;
+      fs::remove(tmp, ignored);
+      return Error{tmp.string() + ": write failed"};
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    return Error{path.string() + ": cannot rename the temporary file into place"};
+  }
+  return ok_status();
+}
+
+}  // namespace
+
+std::string tier_table(const Evaluation& e, const Summary& s) {
+  std::string out = text_table(dice_header(), dice_rows(s));
+  if (synthetic(e)) out += "\n" + text_table(crossing_header(), crossing_rows(s));
+  if (s.all.missing_predictions > 0)
+    out += "\n" + std::to_string(s.all.missing_predictions) +
+           " image(s) had no usable prediction and scored 0 (see report.json).\n";
+  return out;
+}
+
+std::string report_json(const Evaluation& e, const Summary& s, const ReportInfo& info) {
+  json tiers = json::array();
+  for (const TierSummary& t : s.tiers) tiers.push_back(tier_json(t));
+  json images = json::array();
+  for (const ImageResult& r : e.images) images.push_back(image_json(r));
+  json j = {{"command", info.command},
+            {"dataset", e.dataset.root},
+            {"layout", synthetic(e) ? "synth" : "mbest-real"},
+            {"predictions", e.options.run ? "run" : e.options.pred_dir},
+            {"seconds", e.seconds},
+            {"definitions", definitions(e)},
+            {"tiers", tiers},
+            {"all", tier_json(s.all)},
+            {"strict_by_rod_count", mean_bins_json(s.strict_by_rod_count)}};
+  if (synthetic(e)) {
+    j["complexity_figure"] = "total_turning_rad";
+    j["pairing_by_angle"] = rate_bins_json(s.pairing_by_angle);
+    j["order_by_angle"] = rate_bins_json(s.order_by_angle);
+    j["pairing_by_complexity"] = rate_bins_json(s.pairing_by_complexity);
+    j["order_by_complexity"] = rate_bins_json(s.order_by_complexity);
+    j["rod_dice_by_complexity"] = mean_bins_json(s.rod_dice_by_complexity);
+  }
+  j["images"] = images;
+  return j.dump(1) + "\n";
+}
+
+std::string report_markdown(const Evaluation& e, const Summary& s, const ReportInfo& info) {
+  std::ostringstream out;
+  out << "# mbest eval report\n\n"
+      << "- data set: `" << e.dataset.root << "` (" << (synthetic(e) ? "synth" : "mbest-real")
+      << " layout, " << e.images.size() << " images)\n"
+      << "- predictions: " << prediction_source(e) << "\n"
+      << "- command: `" << info.command << "`\n"
+      << "- evaluated in " << fixed(e.seconds, 2) << " s\n\n"
+      << "## Matched DICE per tier\n\n"
+      << markdown_table(dice_header(), dice_rows(s)) << "\n";
+  if (synthetic(e)) {
+    out << "## Crossing resolution and centerline error per tier\n\n"
+        << markdown_table(crossing_header(), crossing_rows(s)) << "\n"
+        << "## Crossings by angle (degrees)\n\n"
+        << markdown_table(bin_header("angle"), bin_rows(s.pairing_by_angle, s.order_by_angle))
+        << "\n## Crossings by curvature complexity (total_turning_rad)\n\n"
+        << markdown_table(bin_header("complexity"),
+                          bin_rows(s.pairing_by_complexity, s.order_by_complexity))
+        << "\n## Rod DICE by curvature complexity (total_turning_rad)\n\n"
+        << markdown_table({"complexity", "mean matched DICE %", "rods"},
+                          mean_rows(s.rod_dice_by_complexity))
+        << "\n";
+  }
+  out << "## Strict DICE by number of rods\n\n"
+      << markdown_table({"rods", "strict DICE %", "images"}, mean_rows(s.strict_by_rod_count))
+      << "\n## Worst images\n\n";
+  std::vector<Row> worst;
+  for (int i : worst_images(e, 10)) worst.push_back(worst_row(e.images[i]));
+  out << markdown_table(worst_header(), worst) << "\n## Definitions\n\n" << definitions(e) << "\n";
+  return out.str();
+}
+
+std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo& info) {
+  std::ostringstream out;
+  out << "<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8>\n"
+      << "<title>mbest eval: " << html_escape(e.dataset.root) << "</title>\n<style>\n"
+      << "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}\n"
+      << "table{border-collapse:collapse;margin:0.5em 0 1.5em}\n"
+      << "th,td{border:1px solid #ccc;padding:3px 8px}th{background:#f0f0f0}\n"
+      << "td.num{text-align:right;font-variant-numeric:tabular-nums}\n"
+      << ".chart{margin:0.5em 0.5em 1em 0;border:1px solid #ddd}\n"
+      << "figure{margin:0 0 1.5em}figcaption{font-size:90%;color:#444}\n"
+      << ".key span{display:inline-block;padding:0 6px;margin-right:6px;color:#000}\n"
+      << "</style></head><body>\n<h1>mbest eval report</h1>\n<ul>\n"
+      << "<li>data set: <code>" << html_escape(e.dataset.root) << "</code> ("
+      << (synthetic(e) ? "synth" : "mbest-real") << " layout, " << e.images.size()
+      << " images)</li>\n<li>predictions: " << html_escape(prediction_source(e)) << "</li>\n"
+      << "<li>command: <code>" << html_escape(info.command) << "</code></li>\n"
+      << "<li>evaluated in " << fixed(e.seconds, 2) << " s</li>\n</ul>\n"
+      << "<h2>Matched DICE per tier</h2>\n" << html_table(dice_header(), dice_rows(s));
+  if (synthetic(e))
+    out << "<h2>Crossing resolution and centerline error per tier</h2>\n"
+        << html_table(crossing_header(), crossing_rows(s));
+
+  out << "<h2>Charts</h2>\n"
+      << chart_img(bar_chart_png("Strict matched DICE by number of rods", "rods in the image",
+                                 labels_of(s.strict_by_rod_count),
+                                 {mean_series("strict DICE", s.strict_by_rod_count)}));
+  if (synthetic(e)) {
+    out << chart_img(bar_chart_png("Crossings resolved by crossing angle", "angle (degrees)",
+                                   labels_of(s.pairing_by_angle),
+                                   {rate_series("pairing", s.pairing_by_angle),
+                                    rate_series("order", s.order_by_angle)}))
+        << chart_img(bar_chart_png("Crossings resolved by curvature complexity",
+                                   "total absolute turning of the rods (radians)",
+                                   labels_of(s.pairing_by_complexity),
+                                   {rate_series("pairing", s.pairing_by_complexity),
+                                    rate_series("order", s.order_by_complexity)}))
+        << chart_img(bar_chart_png("Matched DICE of each rod by curvature complexity",
+                                   "total absolute turning of the rod (radians)",
+                                   labels_of(s.rod_dice_by_complexity),
+                                   {mean_series("rod DICE", s.rod_dice_by_complexity)}))
+        << "<h3>Crossings by angle</h3>\n"
+        << html_table(bin_header("angle (degrees)"), bin_rows(s.pairing_by_angle, s.order_by_angle))
+        << "<h3>Crossings by curvature complexity</h3>\n"
+        << html_table(bin_header("total_turning_rad"),
+                      bin_rows(s.pairing_by_complexity, s.order_by_complexity));
+  }
+
+  out << "<h2>Worst images</h2>\n<p class=key>Panels: ground truth | prediction (each "
+         "predicted instance in the colour of the ground-truth instance matched to it, "
+         "<span style=\"background:#f0f\">unmatched</span>) | disagreement: "
+      << "<span style=\"background:#969696\">right</span><span style=\"background:#e62828\">"
+         "missed</span><span style=\"background:#ffc800\">other instance</span>"
+         "<span style=\"background:#00c8ff\">spurious</span></p>\n";
+  for (int i : worst_images(e, e.options.keep_worst)) {
+    const ImageResult& r = e.images[i];
+    Result<cv::Mat> gt = read_label_image(r.item.labels);
+    if (!gt) continue;
+    const cv::Mat pred = r.kept_prediction.empty() ? cv::Mat::zeros(gt.value().size(), CV_16UC1)
+                                                   : r.kept_prediction;
+    std::vector<uchar> jpeg;
+    cv::imencode(".jpg", overlay(r, gt.value(), pred), jpeg, {cv::IMWRITE_JPEG_QUALITY, 85});
+    const Row w = worst_row(r);
+    out << "<figure><img alt=\"" << html_escape(w[0]) << "\" src=\"data:image/jpeg;base64,"
+        << base64(std::string(jpeg.begin(), jpeg.end())) << "\"><figcaption><b>"
+        << html_escape(w[0]) << "</b>: strict " << w[1] << " %, lenient " << w[2] << " %, n = "
+        << w[3] << ", m = " << w[4] << (w[5].empty() ? "" : ". " + html_escape(w[5]))
+        << "</figcaption></figure>\n";
+  }
+
+  std::vector<Row> all;
+  for (const ImageResult& r : e.images) all.push_back(worst_row(r));
+  out << "<details><summary>Every image</summary>\n" << html_table(worst_header(), all)
+      << "</details>\n<h2>Definitions</h2>\n<p>" << html_escape(definitions(e)) << "</p>\n"
+      << "</body></html>\n";
+  return out.str();
+}
+
+Status write_report(const Evaluation& e, const Summary& s, const ReportInfo& info,
+                    const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) return Error{dir + ": cannot create the report folder"};
+  const fs::path d(dir);
+  if (Status st = write_atomically(d / "report.json", report_json(e, s, info)); !st) return st;
+  if (Status st = write_atomically(d / "report.md", report_markdown(e, s, info)); !st) return st;
+  return write_atomically(d / "report.html", report_html(e, s, info));
+}
+
+}  // namespace mbest::validate
