@@ -129,7 +129,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return g;
   });
   stage("prune", [&] { return prune_split_ends(graph, 2 * r); });
-  auto regions = stage("junctions", [&] { return group_junctions(graph, r, 10 * r); });
+  auto regions = stage("junctions", [&] { return group_junctions(graph, r, 10 * r, 30 * r); });
   auto passages = stage("bending", [&] {
     return build_passages(graph, regions, config.cut_radii * r, config.fit_radii * r);
   });

@@ -21,9 +21,37 @@ bool joins_junctions(const SkeletonGraph& g, const Branch& b) {
          g.nodes[b.node[1]].kind == Node::Kind::junction;
 }
 
+float median(std::vector<float> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// Is branch `i`, joining two junctions, wider than the other branches at those junctions
+// (their first `reach` pixels)?
+bool wider_than_neighbours(const SkeletonGraph& g, int i, double reach) {
+  const Branch& mid = g.branches[i];
+  if (mid.radius.empty()) return false;
+  double mean = 0;
+  for (float r : mid.radius) mean += r;
+  mean /= static_cast<double>(mid.radius.size());
+  std::vector<float> around;
+  for (int s = 0; s < 2; ++s)
+    for (const BranchEnd& e : g.nodes[mid.node[s]].branch_ends) {
+      const Branch& b = g.branches[e.branch];
+      if (e.branch == i || !b.alive) continue;
+      const int n = static_cast<int>(b.radius.size());
+      for (int k = 0; k < std::min(n, static_cast<int>(reach)); ++k)
+        around.push_back(e.side == 0 ? b.radius[k] : b.radius[n - 1 - k]);
+    }
+  const float typical = median(around);
+  return typical > 0 && mean >= 1.25 * typical;
+}
+
 }  // namespace
 
-std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_length, double epsilon) {
+std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_length, double epsilon,
+                                            double wide_length) {
   const int n_nodes = static_cast<int>(g.nodes.size());
   UnionFind uf(n_nodes);
   auto make_inner = [&](Branch& b) { b.alive = false; };
@@ -60,7 +88,10 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
   std::vector<int> order;
   for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
     const Branch& b = g.branches[i];
-    if (b.alive && joins_junctions(g, b) && b.length <= epsilon) order.push_back(i);
+    if (b.alive && joins_junctions(g, b) &&
+        (b.length <= epsilon ||
+         (b.length <= wide_length && wider_than_neighbours(g, i, 3 * merge_length))))
+      order.push_back(i);
   }
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return g.branches[a].length < g.branches[b].length; });

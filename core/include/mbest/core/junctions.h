@@ -24,10 +24,13 @@ struct CrossingRegion {
 // 2. a branch that leaves and re-enters the same crossing within 4 `merge_length` is inside
 //    it (a hole in the mask makes such a small cycle);
 // 3. crossings with an odd number of exits (Ys) are paired, closest first along the branch
-//    joining them, while that branch is no longer than `epsilon` (the paper's 10 r): the
-//    pair is one X-crossing and the joining branch is inside it.
+//    joining them, while that branch is no longer than `epsilon` (the paper's 10 r), or,
+//    up to `wide_length`, while it is wider than the DLOs around it (mean radius at least
+//    1.25 times theirs): two strands crossing at a shallow angle theta overlap over about
+//    2 r / sin(theta / 2), where the mask is wider than one DLO; a branch between two
+//    separate T-junctions is not. The pair is one X-crossing, its joining branch inside it.
 // Branches made inner are marked dead in `graph`.
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& graph, double merge_length,
-                                            double epsilon);
+                                            double epsilon, double wide_length);
 
 }  // namespace mbest
