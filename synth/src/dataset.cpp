@@ -1,0 +1,266 @@
+#include "mbest/synth/dataset.h"
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "mbest/synth/rod.h"
+#include "mbest/synth/scene.h"
+
+namespace mbest::synth {
+
+const char* const kGeneratorVersion = "0.1.0";
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Writes bytes to a hidden temporary file beside `path`, then renames it into place.
+Status write_atomically(const std::string& path, const std::vector<uchar>& bytes) {
+  const fs::path target(path);
+  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return Error{"cannot write " + tmp.string()};
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) return Error{"error while writing " + tmp.string()};
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) return Error{"cannot rename " + tmp.string() + " to " + path + ": " + ec.message()};
+  return ok_status();
+}
+
+Status write_image(const std::string& path, const cv::Mat& image, const std::vector<int>& params) {
+  std::vector<uchar> bytes;
+  const std::string ext = fs::path(path).extension().string();
+  if (!cv::imencode(ext, image, bytes, params)) return Error{"cannot encode " + path};
+  return write_atomically(path, bytes);
+}
+
+Status write_text(const std::string& path, const std::string& text) {
+  return write_atomically(path, std::vector<uchar>(text.begin(), text.end()));
+}
+
+// PNG settings fixed so the bytes do not depend on OpenCV's defaults changing.
+const std::vector<int> kPng = {cv::IMWRITE_PNG_COMPRESSION, 3};
+
+// Records this split in OUT/dataset.json, or checks it matches what is recorded.
+Status record_dataset(const DatasetOptions& o) {
+  const fs::path file = fs::path(o.out) / "dataset.json";
+  json doc = {{"generator", "mbest synth"}, {"version", kGeneratorVersion}, {"splits", json::object()}};
+  std::error_code ec;
+  if (fs::exists(file, ec)) {
+    std::ifstream in(file);
+    try {
+      doc = json::parse(in);
+    } catch (const json::exception& e) {
+      return Error{file.string() + ": not valid JSON (" + e.what() + ")"};
+    }
+  }
+  const json entry = {{"preset", o.config.preset}, {"seed", o.seed}, {"count", o.count}, {"config", to_json(o.config)}};
+  if (doc.value("version", "") != kGeneratorVersion) {
+    return Error{file.string() + " was written by generator version " + doc.value("version", "?") +
+                 ", this is " + kGeneratorVersion + "; use another --out"};
+  }
+  if (!doc.contains("splits") || !doc["splits"].is_object()) {
+    return Error{file.string() + ": field 'splits' is missing"};
+  }
+  if (doc["splits"].contains(o.split)) {
+    if (doc["splits"][o.split] != entry) {
+      return Error{file.string() + " already holds split '" + o.split +
+                   "' made with another preset, config, seed or count; use another --out or --split"};
+    }
+    return ok_status();
+  }
+  doc["splits"][o.split] = entry;
+  return write_text(file.string(), doc.dump(2) + "\n");
+}
+
+}  // namespace
+
+std::string scene_stem(int index) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%06d", index);
+  return buf;
+}
+
+Result<GeneratedScene> generate_scene(const SynthConfig& config, std::uint64_t seed, int index) {
+  Rng rng(scene_seed(seed, static_cast<std::uint64_t>(index)));
+  const Scene scene = compose_scene(config, rng);
+  Result<RenderedScene> render = render_scene(scene, config, rng);
+  if (!render) return render.error();
+  GeneratedScene out;
+  out.render = std::move(render).value();
+  SceneAnnotation& a = out.annotation;
+  const std::string stem = scene_stem(index);
+  a.image = "images/" + stem + "." + config.camera.format;
+  a.labels = "labels/" + stem + ".png";
+  a.semantic = "semantic/" + stem + ".png";
+  a.width = scene.width;
+  a.height = scene.height;
+  a.preset = config.preset;
+  a.seed = seed;
+  a.index = index;
+  for (size_t i = 0; i < scene.rods.size(); ++i) {
+    const SceneRod& r = scene.rods[i];
+    RodAnnotation ra;
+    ra.id = static_cast<int>(i) + 1;
+    ra.width_px = r.width;
+    ra.color_rgb = r.color_rgb;
+    ra.closed = r.closed;
+    ra.centerline = r.centerline;
+    ra.amodal_mask = "amodal/" + stem + "_" + std::to_string(ra.id) + ".png";
+    ra.complexity = complexity(r.centerline, r.width, r.closed);
+    for (const cv::Point2d& p : r.centerline) {
+      if (p.x < -0.5 || p.y < -0.5 || p.x > scene.width - 0.5 || p.y > scene.height - 0.5) ra.leaves_image = true;
+    }
+    a.rods.push_back(std::move(ra));
+  }
+  a.crossings = out.render.crossings;
+  return out;
+}
+
+Status write_scene(const GeneratedScene& scene, const SynthConfig& config, const std::string& split_dir) {
+  const SceneAnnotation& a = scene.annotation;
+  const fs::path dir(split_dir);
+  std::vector<int> params = kPng;
+  if (config.camera.format == "jpg") params = {cv::IMWRITE_JPEG_QUALITY, config.camera.jpeg_quality};
+  Status s = write_image((dir / a.image).string(), scene.render.image, params);
+  if (s) s = write_image((dir / a.labels).string(), scene.render.labels, kPng);
+  if (s) s = write_image((dir / a.semantic).string(), scene.render.labels > 0, kPng);
+  for (size_t i = 0; s && i < a.rods.size(); ++i) {
+    s = write_image((dir / a.rods[i].amodal_mask).string(), scene.render.amodal[i], kPng);
+  }
+  if (!s) return s;
+  // The annotation last: its presence marks the scene done.
+  const fs::path target = dir / "annotations" / (scene_stem(a.index) + ".json");
+  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  s = write_annotation(a, tmp.string());
+  if (!s) return s;
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) return Error{"cannot rename " + tmp.string() + " to " + target.string() + ": " + ec.message()};
+  return ok_status();
+}
+
+Status generate_dataset(const DatasetOptions& o, const std::function<void(const Progress&)>& progress) {
+  if (o.count < 0) return Error{"--count must be >= 0"};
+  if (o.shard_count < 1 || o.shard_index < 0 || o.shard_index >= o.shard_count) {
+    return Error{"--shard: index must be in 0..n-1"};
+  }
+  if (o.split.empty() || o.split.find('/') != std::string::npos || o.split[0] == '.') {
+    return Error{"--split: '" + o.split + "' is not a plain folder name"};
+  }
+  const fs::path split_dir = fs::path(o.out) / o.split;
+  std::error_code ec;
+  for (const char* sub : {"images", "labels", "semantic", "amodal", "annotations"}) {
+    fs::create_directories(split_dir / sub, ec);
+    if (ec) return Error{"cannot create folder " + (split_dir / sub).string() + ": " + ec.message()};
+  }
+  Status recorded = record_dataset(o);
+  if (!recorded) return recorded;
+
+  std::vector<int> todo;
+  Progress p;
+  for (int i = o.shard_index; i < o.count; i += o.shard_count) {
+    ++p.total;
+    if (fs::exists(split_dir / "annotations" / (scene_stem(i) + ".json"), ec)) {
+      ++p.skipped;
+    } else {
+      todo.push_back(i);
+    }
+  }
+  std::mutex mutex;
+  if (progress) progress(p);
+  std::atomic<size_t> next{0};
+  std::atomic<bool> failed{false};
+  Status first_error = ok_status();
+  auto worker = [&]() {
+    for (size_t k = next++; k < todo.size() && !failed; k = next++) {
+      Result<GeneratedScene> scene = generate_scene(o.config, o.seed, todo[k]);
+      Status s = scene ? write_scene(scene.value(), o.config, split_dir.string()) : Status(scene.error());
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!s) {
+        if (!failed) first_error = s;
+        failed = true;
+        return;
+      }
+      ++p.done;
+      if (progress) progress(p);
+    }
+  };
+  const int jobs = std::max(1, std::min<int>(o.jobs, static_cast<int>(todo.size())));
+  std::vector<std::thread> threads;
+  for (int j = 1; j < jobs; ++j) threads.emplace_back(worker);
+  worker();
+  for (std::thread& t : threads) t.join();
+  if (failed) return first_error;
+
+  for (int i = 0; i < o.count; ++i) {
+    if (!fs::exists(split_dir / "annotations" / (scene_stem(i) + ".json"), ec)) return ok_status();
+  }
+  return write_coco(split_dir.string(), o.count);
+}
+
+Status write_coco(const std::string& split_dir, int count) {
+  const fs::path dir(split_dir);
+  json images = json::array(), annotations = json::array();
+  int next_id = 1;
+  for (int i = 0; i < count; ++i) {
+    const std::string file = (dir / "annotations" / (scene_stem(i) + ".json")).string();
+    Result<SceneAnnotation> a = read_annotation(file);
+    if (!a) return a.error();
+    const SceneAnnotation& s = a.value();
+    const std::string labels_file = (dir / s.labels).string();
+    const cv::Mat labels = cv::imread(labels_file, cv::IMREAD_UNCHANGED);
+    if (labels.empty() || labels.type() != CV_16UC1) return Error{"cannot read 16-bit labels " + labels_file};
+    images.push_back({{"id", i}, {"file_name", s.image}, {"width", s.width}, {"height", s.height}});
+    for (const RodAnnotation& r : s.rods) {
+      const cv::Mat mask = labels == r.id;
+      const int area = cv::countNonZero(mask);
+      if (area == 0) continue;
+      const cv::Rect box = cv::boundingRect(mask);
+      // Uncompressed RLE, column-major, starting with a run of zeros (COCO's convention).
+      json counts = json::array();
+      uchar current = 0;
+      long run = 0;
+      for (int x = 0; x < mask.cols; ++x) {
+        for (int y = 0; y < mask.rows; ++y) {
+          const uchar v = mask.at<uchar>(y, x) ? 1 : 0;
+          if (v != current) {
+            counts.push_back(run);
+            run = 0;
+            current = v;
+          }
+          ++run;
+        }
+      }
+      counts.push_back(run);
+      annotations.push_back({{"id", next_id++},
+                             {"image_id", i},
+                             {"category_id", 1},
+                             {"iscrowd", 0},
+                             {"area", area},
+                             {"bbox", json::array({box.x, box.y, box.width, box.height})},
+                             {"segmentation", {{"size", json::array({mask.rows, mask.cols})}, {"counts", counts}}},
+                             {"attributes", {{"rod_id", r.id}}}});
+    }
+  }
+  const json coco = {{"info", {{"description", "mbest synth"}, {"version", kGeneratorVersion}}},
+                     {"images", images},
+                     {"annotations", annotations},
+                     {"categories", json::array({{{"id", 1}, {"name", "rod"}, {"supercategory", "dlo"}}})}};
+  return write_text((dir / "coco.json").string(), coco.dump() + "\n");
+}
+
+}  // namespace mbest::synth

@@ -1,0 +1,368 @@
+#include "mbest/synth/render.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <cairo.h>
+#include <opencv2/imgproc.hpp>
+
+#include "mbest/synth/background.h"
+
+namespace mbest::synth {
+namespace {
+
+// A piece of one rod painted in one go: the whole rod (its base layer) or, at a crossing,
+// the stretch of the strand that must be on top, painted again above.
+struct Layer {
+  int rod = 0;
+  int from = 0, to = 0;  // centerline indices, inclusive; to may exceed n on a ring (wraps)
+  bool whole = false;
+  cv::Rect box;          // in the image
+  cv::Mat coverage;      // CV_8UC1 over box, from Cairo
+};
+
+cv::Point2d point_at(const SceneRod& rod, int i) {
+  const int n = static_cast<int>(rod.centerline.size());
+  return rod.centerline[((i % n) + n) % n];
+}
+
+// Cairo coverage of the stroked piece, over its bounding box in the image.
+void rasterise(Layer& layer, const SceneRod& rod, const cv::Rect& image) {
+  double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
+  for (int i = layer.from; i <= layer.to; ++i) {
+    const cv::Point2d p = point_at(rod, i);
+    x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
+  }
+  const double pad = rod.width / 2 + 2;
+  // Pixel centres at integer coordinates: pixel (x, y) spans [x - 0.5, x + 0.5].
+  cv::Rect box(cv::Point(static_cast<int>(std::floor(x0 - pad)), static_cast<int>(std::floor(y0 - pad))),
+               cv::Point(static_cast<int>(std::ceil(x1 + pad)) + 1, static_cast<int>(std::ceil(y1 + pad)) + 1));
+  layer.box = box & image;
+  if (layer.box.empty()) return;
+  const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_A8, layer.box.width);
+  cv::Mat buffer(layer.box.height, stride, CV_8UC1, cv::Scalar(0));
+  cairo_surface_t* surface = cairo_image_surface_create_for_data(
+      buffer.data, CAIRO_FORMAT_A8, layer.box.width, layer.box.height, stride);
+  cairo_t* cr = cairo_create(surface);
+  cairo_translate(cr, 0.5 - layer.box.x, 0.5 - layer.box.y);
+  const cv::Point2d first = point_at(rod, layer.from);
+  cairo_move_to(cr, first.x, first.y);
+  for (int i = layer.from + 1; i <= layer.to; ++i) {
+    const cv::Point2d p = point_at(rod, i);
+    cairo_line_to(cr, p.x, p.y);
+  }
+  if (layer.whole && rod.closed) cairo_close_path(cr);
+  cairo_set_line_width(cr, rod.width);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  cairo_set_antialias(cr, CAIRO_ANTIALIAS_GOOD);
+  cairo_stroke(cr);
+  cairo_destroy(cr);
+  cairo_surface_flush(surface);
+  cairo_surface_destroy(surface);
+  layer.coverage = buffer(cv::Rect(0, 0, layer.box.width, layer.box.height));
+}
+
+struct Light {
+  cv::Vec3d l, h;  // light and half vectors, unit, z towards the camera
+  double shading, glare;
+};
+
+// The colour of a rod's piece at each covered pixel of its box (BGR floats, 0..255):
+// a lit cylinder (darker rims, lighter core) with a specular streak whose strength
+// varies along the rod.
+void shade(const Layer& layer, const SceneRod& rod, const Light& light, double glare_phase,
+           cv::Mat* colour /* CV_32FC3 over layer.box */) {
+  const cv::Rect& box = layer.box;
+  cv::Mat dist(box.size(), CV_32F, cv::Scalar(1e9f));
+  cv::Mat along(box.size(), CV_32FC3);  // (signed offset, normal x, normal y)
+  cv::Mat arc(box.size(), CV_32F, cv::Scalar(0));
+  const double half = rod.width / 2;
+  constexpr int kStep = 3;  // distances to a 3 px polyline: well under a pixel of error
+  for (int i = layer.from; i < layer.to; i += kStep) {
+    const int j = std::min(i + kStep, layer.to);
+    const cv::Point2d a = point_at(rod, i), b = point_at(rod, j);
+    const cv::Point2d d = b - a;
+    const double len2 = d.dot(d);
+    if (len2 < 1e-12) continue;
+    const double len = std::sqrt(len2);
+    const cv::Point2d n(-d.y / len, d.x / len);
+    const int xa = std::max(box.x, static_cast<int>(std::floor(std::min(a.x, b.x) - half - 1)));
+    const int xb = std::min(box.x + box.width - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + half + 1)));
+    const int ya = std::max(box.y, static_cast<int>(std::floor(std::min(a.y, b.y) - half - 1)));
+    const int yb = std::min(box.y + box.height - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + half + 1)));
+    for (int y = ya; y <= yb; ++y) {
+      float* drow = dist.ptr<float>(y - box.y);
+      cv::Vec3f* arow = along.ptr<cv::Vec3f>(y - box.y);
+      float* srow = arc.ptr<float>(y - box.y);
+      for (int x = xa; x <= xb; ++x) {
+        const cv::Point2d p(x - a.x, y - a.y);
+        const double t = std::clamp(p.dot(d) / len2, 0.0, 1.0);
+        const cv::Point2d q = p - t * d;
+        const double dd = q.dot(q);
+        if (dd < drow[x - box.x]) {
+          drow[x - box.x] = static_cast<float>(dd);
+          arow[x - box.x] = cv::Vec3f(static_cast<float>(p.dot(n)), static_cast<float>(n.x), static_cast<float>(n.y));
+          srow[x - box.x] = static_cast<float>(i + t * (j - i));
+        }
+      }
+    }
+  }
+  *colour = cv::Mat(box.size(), CV_32FC3, cv::Scalar(0, 0, 0));
+  const cv::Vec3d base(rod.color_rgb[2], rod.color_rgb[1], rod.color_rgb[0]);
+  for (int y = 0; y < box.height; ++y) {
+    const uchar* cov = layer.coverage.ptr<uchar>(y);
+    const cv::Vec3f* arow = along.ptr<cv::Vec3f>(y);
+    const float* srow = arc.ptr<float>(y);
+    cv::Vec3f* out = colour->ptr<cv::Vec3f>(y);
+    for (int x = 0; x < box.width; ++x) {
+      if (!cov[x]) continue;
+      const double u = std::clamp(arow[x][0] / half, -1.0, 1.0);
+      const double w = std::sqrt(1 - u * u);
+      const cv::Vec3d normal(u * arow[x][1], u * arow[x][2], w);
+      const double diffuse = std::max(0.0, normal.dot(light.l));
+      double spec = std::max(0.0, normal.dot(light.h));
+      for (int k = 0; k < 5; ++k) spec *= spec;  // ^32: a narrow streak
+      const double s = srow[x];
+      const double streak = std::max(0.0, std::sin(s / 57.0 + glare_phase) * 0.6 + std::sin(s / 23.0 + 2 * glare_phase) * 0.4);
+      const double tone = 1 - light.shading + light.shading * (0.45 + 0.75 * diffuse);
+      const double g = 255 * light.glare * spec * (0.35 + 0.65 * streak);
+      for (int k = 0; k < 3; ++k) out[x][k] = static_cast<float>(std::min(255.0, base[k] * tone + g));
+    }
+  }
+}
+
+struct RodBuffers {
+  cv::Rect box;
+  cv::Mat coverage;  // CV_8UC1, the whole rod (union of its pieces)
+  cv::Mat colour;    // CV_32FC3
+  cv::Mat depth;     // CV_32S: index of the topmost layer of this rod at the pixel
+};
+
+// Depth of a rod's strand (centerline index i) after the layers so far: the last layer
+// of that rod whose range holds i.
+int strand_depth(const std::vector<Layer>& layers, int rod, int i, int n) {
+  int depth = -1;
+  for (size_t k = 0; k < layers.size(); ++k) {
+    const Layer& l = layers[k];
+    if (l.rod != rod) continue;
+    if (l.whole) {
+      depth = static_cast<int>(k);
+      continue;
+    }
+    for (int shift : {-n, 0, n}) {
+      if (i + shift >= l.from && i + shift <= l.to) depth = static_cast<int>(k);
+    }
+  }
+  return depth;
+}
+
+// The pieces to paint, bottom first: whole rods in base order, then one patch per
+// crossing whose wanted top strand is not already above (always at a self-crossing).
+std::vector<Layer> plan_layers(const Scene& scene) {
+  std::vector<Layer> layers;
+  for (int r : scene.base_order) {
+    Layer l;
+    l.rod = r;
+    l.from = 0;
+    const int n = static_cast<int>(scene.rods[r].centerline.size());
+    l.to = n - 1 + (scene.rods[r].closed ? 1 : 0);
+    l.whole = true;
+    layers.push_back(l);
+  }
+  for (const CrossingAnnotation& c : scene.crossings) {
+    const int top = c.top - 1;
+    const bool a_top = c.top_arc_index == c.arc_index_a && c.top == c.rod_a;
+    const int other = (a_top ? c.rod_b : c.rod_a) - 1;
+    const int top_i = c.top_arc_index;
+    const int other_i = a_top ? c.arc_index_b : c.arc_index_a;
+    const int n_top = static_cast<int>(scene.rods[top].centerline.size());
+    const int n_other = static_cast<int>(scene.rods[other].centerline.size());
+    if (top != other &&
+        strand_depth(layers, top, top_i, n_top) > strand_depth(layers, other, other_i, n_other)) {
+      continue;
+    }
+    // Long enough to cover the overlap of the two tubes at this angle, plus a margin.
+    const double sin_angle = std::max(std::sin(c.angle_deg * M_PI / 180), 0.03);
+    const double overlap = 0.5 * (scene.rods[top].width + scene.rods[other].width) / sin_angle;
+    const int half = static_cast<int>(std::min(overlap + scene.rods[top].width + 4, 0.45 * n_top));
+    Layer l;
+    l.rod = top;
+    l.from = top_i - half;
+    l.to = top_i + half;
+    if (!scene.rods[top].closed) {
+      l.from = std::max(l.from, 0);
+      l.to = std::min(l.to, n_top - 1);
+    }
+    layers.push_back(l);
+  }
+  return layers;
+}
+
+void apply_camera(const CameraConfig& camera, Rng& rng, cv::Mat* image) {
+  const double exposure = rng.uniform(camera.exposure.lo, camera.exposure.hi);
+  const double blur = rng.uniform(camera.blur_sigma.lo, camera.blur_sigma.hi);
+  const double noise = rng.uniform(camera.noise_sigma.lo, camera.noise_sigma.hi);
+  const std::uint64_t noise_seed = rng.next();
+  if (std::abs(exposure - 1) > 1e-6) image->convertTo(*image, CV_8UC3, exposure);
+  if (blur > 0.05) cv::GaussianBlur(*image, *image, cv::Size(0, 0), blur);
+  if (noise > 0.05) {
+    cv::Mat n(image->size(), CV_16SC3);
+    cv::RNG cv_rng(noise_seed);
+    cv_rng.fill(n, cv::RNG::NORMAL, 0, noise);
+    cv::Mat sum;
+    cv::add(*image, n, sum, cv::noArray(), CV_16SC3);
+    sum.convertTo(*image, CV_8UC3);
+  }
+}
+
+}  // namespace
+
+Result<RenderedScene> render_scene(const Scene& scene, const SynthConfig& config, Rng& rng) {
+  const RenderConfig& rc = config.render;
+  const cv::Size size(scene.width, scene.height);
+  const cv::Rect image_rect(cv::Point(0, 0), size);
+  Result<cv::Mat> background = make_background(rc.background, size, rng);
+  if (!background) return background.error();
+  cv::Mat picture = std::move(background).value();
+
+  // Light from the upper left, a little above the table.
+  const double azimuth = rng.uniform(-2.6, -1.9);
+  const cv::Vec3d l = cv::normalize(cv::Vec3d(0.55 * std::cos(azimuth), 0.55 * std::sin(azimuth), 1.0));
+  const Light light{l, cv::normalize(l + cv::Vec3d(0, 0, 1)), rc.shading, rc.glare};
+
+  std::vector<Layer> layers = plan_layers(scene);
+  const int n_rods = static_cast<int>(scene.rods.size());
+  std::vector<RodBuffers> rods(n_rods);
+  std::vector<double> glare_phase(n_rods);
+  for (double& p : glare_phase) p = rng.uniform(0, 2 * M_PI);
+  for (size_t k = 0; k < layers.size(); ++k) {
+    Layer& layer = layers[k];
+    const SceneRod& rod = scene.rods[layer.rod];
+    rasterise(layer, rod, image_rect);
+    if (layer.box.empty()) continue;
+    cv::Mat colour;
+    shade(layer, rod, light, glare_phase[layer.rod], &colour);
+    RodBuffers& b = rods[layer.rod];
+    if (layer.whole) {
+      b.box = layer.box;
+      b.coverage = layer.coverage;
+      b.colour = colour;
+      b.depth = cv::Mat(layer.box.size(), CV_32S, cv::Scalar(-1));
+      b.depth.setTo(static_cast<int>(k), layer.coverage > 0);
+      continue;
+    }
+    // A patch lies inside its rod's box; paint it over the rod's own colour.
+    const cv::Rect in_rod = layer.box - b.box.tl();
+    for (int y = 0; y < layer.box.height; ++y) {
+      const uchar* cov = layer.coverage.ptr<uchar>(y);
+      const cv::Vec3f* src = colour.ptr<cv::Vec3f>(y);
+      cv::Vec3f* dst = b.colour.ptr<cv::Vec3f>(y + in_rod.y) + in_rod.x;
+      int* depth = b.depth.ptr<int>(y + in_rod.y) + in_rod.x;
+      for (int x = 0; x < layer.box.width; ++x) {
+        if (!cov[x]) continue;
+        const float a = cov[x] / 255.f;
+        dst[x] = a * src[x] + (1 - a) * dst[x];
+        depth[x] = static_cast<int>(k);
+      }
+    }
+  }
+
+  if (rc.shadow > 0) {
+    cv::Mat mask(size, CV_32F, cv::Scalar(0));
+    const cv::Point2d offset(rng.uniform(2, 6), rng.uniform(2, 6));
+    for (const RodBuffers& b : rods) {
+      if (b.box.empty()) continue;
+      const cv::Rect shifted = (b.box + cv::Point(static_cast<int>(offset.x), static_cast<int>(offset.y))) & image_rect;
+      cv::Mat cov;
+      b.coverage(cv::Rect(cv::Point(0, 0), shifted.size())).convertTo(cov, CV_32F, 1 / 255.0);
+      cv::Mat roi = mask(shifted);
+      cv::max(roi, cov, roi);
+    }
+    cv::GaussianBlur(mask, mask, cv::Size(0, 0), rng.uniform(2.5, 5));
+    cv::Mat gain = 1 - 0.6 * rc.shadow * mask;
+    cv::Mat gain3;
+    cv::merge(std::vector<cv::Mat>{gain, gain, gain}, gain3);
+    cv::Mat f;
+    picture.convertTo(f, CV_32FC3);
+    cv::multiply(f, gain3, f);
+    f.convertTo(picture, CV_8UC3);
+  }
+
+  RenderedScene out;
+  out.labels = cv::Mat(size, CV_16UC1, cv::Scalar(0));
+  cv::Rect all;
+  for (const RodBuffers& b : rods) all |= b.box;
+  struct Present {
+    int depth, rod;
+    float coverage;
+  };
+  for (int y = all.y; y < all.y + all.height; ++y) {
+    cv::Vec3b* prow = picture.ptr<cv::Vec3b>(y);
+    ushort* lrow = out.labels.ptr<ushort>(y);
+    for (int x = all.x; x < all.x + all.width; ++x) {
+      Present present[12 + 1];
+      int count = 0;
+      for (int r = 0; r < n_rods; ++r) {
+        const RodBuffers& b = rods[r];
+        if (!b.box.contains({x, y})) continue;
+        const uchar c = b.coverage.at<uchar>(y - b.box.y, x - b.box.x);
+        if (!c) continue;
+        present[count++] = {b.depth.at<int>(y - b.box.y, x - b.box.x), r, c / 255.f};
+      }
+      if (!count) continue;
+      for (int i = 1; i < count; ++i) {  // insertion sort, topmost first
+        for (int j = i; j > 0 && present[j].depth > present[j - 1].depth; --j) std::swap(present[j], present[j - 1]);
+      }
+      // Top down: each rod shows through what the ones above leave uncovered.
+      float remaining = 1;
+      cv::Vec3f sum(0, 0, 0);
+      for (int i = 0; i < count; ++i) {
+        const RodBuffers& b = rods[present[i].rod];
+        const float visible = present[i].coverage * remaining;
+        sum += visible * b.colour.at<cv::Vec3f>(y - b.box.y, x - b.box.x);
+        if (255 * visible >= 127.5f) lrow[x] = static_cast<ushort>(present[i].rod + 1);
+        remaining -= visible;
+      }
+      const cv::Vec3b bg = prow[x];
+      for (int k = 0; k < 3; ++k) prow[x][k] = cv::saturate_cast<uchar>(sum[k] + remaining * bg[k]);
+    }
+  }
+
+  for (int r = 0; r < n_rods; ++r) {
+    cv::Mat m(size, CV_8UC1, cv::Scalar(0));
+    if (!rods[r].box.empty()) m(rods[r].box).setTo(255, rods[r].coverage >= 128);
+    out.amodal.push_back(m);
+  }
+
+  // What the picture shows at each crossing: between two rods, the one whose pieces are
+  // on top at the crossing pixel; at a self-crossing, the strand of the last piece.
+  out.crossings = scene.crossings;
+  for (CrossingAnnotation& c : out.crossings) {
+    const int a = c.rod_a - 1, b = c.rod_b - 1;
+    if (a == b) {
+      const int n = static_cast<int>(scene.rods[a].centerline.size());
+      const int da = strand_depth(layers, a, c.arc_index_a, n);
+      const int db = strand_depth(layers, a, c.arc_index_b, n);
+      c.top = c.rod_a;
+      c.top_arc_index = da >= db ? c.arc_index_a : c.arc_index_b;
+      continue;
+    }
+    const cv::Point p(std::clamp(static_cast<int>(std::lround(c.location.x)), 0, size.width - 1),
+                      std::clamp(static_cast<int>(std::lround(c.location.y)), 0, size.height - 1));
+    auto depth_at = [&](int r) {
+      const RodBuffers& rb = rods[r];
+      if (rb.box.empty() || !rb.box.contains(p)) return -1;
+      return rb.depth.at<int>(p.y - rb.box.y, p.x - rb.box.x);
+    };
+    const bool a_top = depth_at(a) > depth_at(b);
+    c.top = a_top ? c.rod_a : c.rod_b;
+    c.top_arc_index = a_top ? c.arc_index_a : c.arc_index_b;
+  }
+
+  apply_camera(config.camera, rng, &picture);
+  out.image = picture;
+  return out;
+}
+
+}  // namespace mbest::synth
