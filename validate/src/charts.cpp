@@ -98,7 +98,7 @@ std::string bar_chart_png(const std::string& title, const std::string& x_title,
       cairo_rectangle(cr, x + 1, y_of(v), bar_w - 2, kTop + plot_h - y_of(v));
       cairo_fill(cr);
       cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-      text(cr, format("%.1f", v), x + bar_w / 2, y_of(v) - 3, 10, 0.5);
+      text(cr, format(100 - y0 <= 10 ? "%.2f" : "%.1f", v), x + bar_w / 2, y_of(v) - 3, 10, 0.5);
     }
     cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
     text(cr, counts, group_x + group_w / 2, kTop + plot_h + 30, 10, 0.5);

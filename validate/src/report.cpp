@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -130,6 +131,17 @@ std::string text_table(const Row& header, const std::vector<Row>& rows) {
   return out.str();
 }
 
+// A column is numeric when each of its cells is a number or "-".
+bool numeric_column(const std::vector<Row>& rows, size_t c) {
+  for (const Row& r : rows) {
+    if (r[c] == "-") continue;
+    char* end = nullptr;
+    std::strtod(r[c].c_str(), &end);
+    if (r[c].empty() || *end != '\0') return false;
+  }
+  return true;
+}
+
 std::string markdown_table(const Row& header, const std::vector<Row>& rows) {
   std::ostringstream out;
   const auto line = [&](const Row& r) {
@@ -139,7 +151,7 @@ std::string markdown_table(const Row& header, const std::vector<Row>& rows) {
   };
   line(header);
   out << "|";
-  for (size_t c = 0; c < header.size(); ++c) out << (c ? "---:|" : "---|");
+  for (size_t c = 0; c < header.size(); ++c) out << (numeric_column(rows, c) ? "---:|" : "---|");
   out << "\n";
   for (const Row& r : rows) line(r);
   return out.str();
@@ -164,10 +176,12 @@ std::string html_table(const Row& header, const std::vector<Row>& rows) {
   out << "<table><thead><tr>";
   for (const std::string& h : header) out << "<th>" << html_escape(h) << "</th>";
   out << "</tr></thead><tbody>\n";
+  std::vector<bool> numeric(header.size());
+  for (size_t c = 0; c < header.size(); ++c) numeric[c] = numeric_column(rows, c);
   for (const Row& r : rows) {
     out << "<tr>";
     for (size_t c = 0; c < r.size(); ++c)
-      out << (c ? "<td class=num>" : "<td>") << html_escape(r[c]) << "</td>";
+      out << (numeric[c] ? "<td class=num>" : "<td>") << html_escape(r[c]) << "</td>";
     out << "</tr>\n";
   }
   out << "</tbody></table>\n";

@@ -1,0 +1,151 @@
+// `mbest eval DATASET (--pred DIR | --run) [--report DIR] [--json] [--min-dice PCT]`:
+// scores predictions against a data set's ground truth and prints a table per tier.
+// Exit codes: 0 success, 1 bad input, 2 a tier's strict DICE below --min-dice.
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "mbest/validate/dataset.h"
+#include "mbest/validate/evaluation.h"
+#include "mbest/validate/report.h"
+#include "mbest/validate/summary.h"
+
+namespace mbest::app {
+
+namespace {
+
+struct EvalArgs {
+  std::string dataset;
+  std::string pred;
+  bool run = false;
+  std::string report;
+  bool json = false;
+  double min_dice = -1;
+  int threads = 2;
+  int worst = 8;
+};
+
+std::string command_line(const EvalArgs& a) {
+  std::ostringstream out;
+  out << "mbest eval " << a.dataset << (a.run ? " --run" : " --pred " + a.pred);
+  if (!a.report.empty()) out << " --report " << a.report;
+  if (a.json) out << " --json";
+  if (a.min_dice >= 0) out << " --min-dice " << a.min_dice;
+  return out.str();
+}
+
+// Progress on stderr: a line redrawn in place on a terminal; otherwise, for the slow --run,
+// a line every tenth of the images.
+std::function<void(int, int)> progress_printer(bool run) {
+  const bool tty = ::isatty(STDERR_FILENO);
+  if (!tty && !run) return {};
+  return [tty](int done, int total) {
+    if (tty) {
+      std::fprintf(stderr, "\reval: %d/%d images", done, total);
+      if (done == total) std::fprintf(stderr, "\r\033[K");
+    } else if (done == total || done % std::max(1, total / 10) == 0) {
+      std::fprintf(stderr, "eval: %d/%d images\n", done, total);
+    }
+    std::fflush(stderr);
+  };
+}
+
+int run_eval(const EvalArgs& a) {
+  namespace v = mbest::validate;
+  if (!a.run && a.pred.empty()) {
+    std::cerr << "mbest eval: give the predictions with --pred DIR (a `mbest detect --out` "
+                 "folder) or compute them with --run\n";
+    return 1;
+  }
+  if (!a.run && !std::filesystem::is_directory(a.pred)) {
+    std::cerr << "mbest eval: " << a.pred << ": prediction folder not found\n";
+    return 1;
+  }
+  Result<v::Dataset> dataset = v::open_dataset(a.dataset);
+  if (!dataset) {
+    std::cerr << "mbest eval: " << dataset.error().message << "\n";
+    return 1;
+  }
+  v::EvalOptions options;
+  options.pred_dir = a.pred;
+  options.run = a.run;
+  options.threads = a.threads;
+  options.keep_worst = a.report.empty() ? 0 : a.worst;
+  Result<v::Evaluation> evaluation = v::evaluate(dataset.value(), options, progress_printer(a.run));
+  if (!evaluation) {
+    std::cerr << "mbest eval: " << evaluation.error().message << "\n";
+    return 1;
+  }
+  const v::Evaluation& e = evaluation.value();
+  const v::Summary summary = v::summarise(e);
+  if (!a.run && summary.all.missing_predictions == summary.all.images) {
+    std::cerr << "mbest eval: " << a.pred << ": no prediction for any image of " << a.dataset
+              << " (expected e.g. " << v::prediction_paths(e.images[0].item, a.pred).labels
+              << ", as `mbest detect " << a.dataset << " --out " << a.pred << "` writes)\n";
+    return 1;
+  }
+  const v::ReportInfo info{command_line(a)};
+  if (a.json) {
+    std::cout << v::report_json(e, summary, info);
+  } else {
+    std::printf("mbest eval %s: %zu images (%s layout), predictions %s, %.2f s\n\n%s",
+                e.dataset.root.c_str(), e.images.size(),
+                e.dataset.synthetic ? "synth" : "mbest-real",
+                a.run ? "computed with --run" : ("from " + a.pred).c_str(), e.seconds,
+                v::tier_table(e, summary).c_str());
+  }
+  if (!a.report.empty()) {
+    if (Status s = v::write_report(e, summary, info, a.report); !s) {
+      std::cerr << "mbest eval: " << s.error().message << "\n";
+      return 1;
+    }
+    std::cerr << "mbest eval: wrote " << a.report << "/report.{json,md,html}\n";
+  }
+  int code = 0;
+  for (const v::TierSummary& t : summary.tiers) {
+    if (a.min_dice >= 0 && t.strict_mean < a.min_dice) {
+      std::fprintf(stderr, "mbest eval: tier %s: strict DICE %.2f %% is below --min-dice %.2f %%\n",
+                   t.tier.c_str(), t.strict_mean, a.min_dice);
+      code = 2;
+    }
+  }
+  return code;
+}
+
+}  // namespace
+
+void add_eval_command(CLI::App& app, int* exit_code) {
+  CLI::App* cmd = app.add_subcommand(
+      "eval",
+      "Score predictions against a data set's ground truth: matched DICE per tier (strict, "
+      "lenient, count errors); on synthetic data also crossing resolution and centerline error. "
+      "Exit code 1 on bad input, 2 when a tier is below --min-dice.");
+  auto a = std::make_shared<EvalArgs>();
+  cmd->add_option("DATASET", a->dataset,
+                  "data set: DATASET/<tier>/images + labels (mbest-real), or the synth layout "
+                  "with annotations/")
+      ->required();
+  CLI::Option* pred =
+      cmd->add_option("--pred", a->pred, "predictions: the folder of `mbest detect DATASET --out DIR`");
+  CLI::Option* run = cmd->add_flag("--run", a->run, "compute predictions now (colour_filter -> detect)");
+  pred->excludes(run);
+  cmd->add_option("--report", a->report, "write report.json, report.md and report.html into DIR");
+  cmd->add_flag("--json", a->json, "print report.json to stdout instead of the table");
+  cmd->add_option("--min-dice", a->min_dice,
+                  "exit with code 2 if any tier's strict DICE (percent) is below this")
+      ->check(CLI::Range(0.0, 100.0));
+  cmd->add_option("--threads", a->threads, "images scored in parallel")->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--worst", a->worst, "images in the report's gallery")->capture_default_str()
+      ->check(CLI::Range(0, 1000));
+  cmd->callback([a, exit_code] { *exit_code = run_eval(*a); });
+}
+
+}  // namespace mbest::app
