@@ -52,7 +52,7 @@ Status write_text(const std::string& path, const std::string& text) {
 }
 
 // PNG settings fixed so the bytes do not depend on OpenCV's defaults changing.
-const std::vector<int> kPng = {cv::IMWRITE_PNG_COMPRESSION, 3};
+const std::vector<int> kPng = {cv::IMWRITE_PNG_COMPRESSION, 1};
 
 // Records this split in OUT/dataset.json, or checks it matches what is recorded.
 Status record_dataset(const DatasetOptions& o) {

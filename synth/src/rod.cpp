@@ -14,10 +14,6 @@ constexpr double kPositionWeight = 3.0;
 constexpr double kHeadingWeight = 6.0;
 constexpr double kClosureWeight = 10.0;
 
-int segment_of(double s, double h, int m) {
-  return std::clamp(static_cast<int>(std::lround(s / h)), 0, m);
-}
-
 struct Residuals {
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
@@ -44,24 +40,31 @@ Residuals evaluate(const RodProblem& p, const Eigen::VectorXd& v) {
     cy[k + 1] = cy[k] + h * std::sin(v(k + 2));
   }
   for (const Pin& pin : p.pins) {
-    const int j = segment_of(pin.s, h, m);
+    // The pin's point on the segment polyline: segment j at fraction f.
+    const int j = std::clamp(static_cast<int>(std::floor(pin.s / h)), 0, m - 1);
+    const double f = std::clamp(pin.s / h - j, 0.0, 1.0);
     if (pin.has_position) {
-      out.r(row) = kPositionWeight * (v(0) + cx[j] - pin.position.x);
-      out.r(row + 1) = kPositionWeight * (v(1) + cy[j] - pin.position.y);
+      const double cj = std::cos(v(j + 2)), sj = std::sin(v(j + 2));
+      out.r(row) = kPositionWeight * (v(0) + cx[j] + f * h * cj - pin.position.x);
+      out.r(row + 1) = kPositionWeight * (v(1) + cy[j] + f * h * sj - pin.position.y);
       out.J(row, 0) = kPositionWeight;
       out.J(row + 1, 1) = kPositionWeight;
       for (int k = 0; k < j; ++k) {
         out.J(row, k + 2) = -kPositionWeight * h * std::sin(v(k + 2));
         out.J(row + 1, k + 2) = kPositionWeight * h * std::cos(v(k + 2));
       }
+      out.J(row, j + 2) = -kPositionWeight * f * h * sj;
+      out.J(row + 1, j + 2) = kPositionWeight * f * h * cj;
       row += 2;
     }
     if (pin.has_heading) {
-      // The heading at a node is the mean of its two segments' headings.
-      const int a = std::clamp(j - 1, 0, m - 1), b = std::clamp(j, 0, m - 1);
-      out.r(row) = kHeadingWeight * (0.5 * (v(a + 2) + v(b + 2)) - pin.heading);
-      out.J(row, a + 2) += 0.5 * kHeadingWeight;
-      out.J(row, b + 2) += 0.5 * kHeadingWeight;
+      // Heading linear between segment midpoints, as in sample_centerline.
+      const double t = std::clamp(pin.s / h - 0.5, 0.0, m - 1.0);
+      const int a = std::min(static_cast<int>(std::floor(t)), m - 1), b = std::min(a + 1, m - 1);
+      const double g = t - a;
+      out.r(row) = kHeadingWeight * ((1 - g) * v(a + 2) + g * v(b + 2) - pin.heading);
+      out.J(row, a + 2) += (1 - g) * kHeadingWeight;
+      out.J(row, b + 2) += g * kHeadingWeight;
       ++row;
     }
   }
@@ -91,12 +94,26 @@ RodShape solve_rod(const RodProblem& p) {
   Residuals res = evaluate(p, v);
   double cost = res.r.squaredNorm();
   double lambda = 1e-3;
-  for (int iter = 0; iter < 30; ++iter) {
-    const Eigen::MatrixXd jtj = res.J.transpose() * res.J;
-    const Eigen::VectorXd g = res.J.transpose() * res.r;
+  const int bend_rows = m - 1;
+  for (int iter = 0; iter < 25; ++iter) {
+    // J^T J: the bending rows are a tridiagonal block, added directly; only the few pin
+    // and closure rows go through a dense product.
+    const auto pin_rows = res.J.bottomRows(res.J.rows() - bend_rows);
+    Eigen::MatrixXd jtj = pin_rows.transpose() * pin_rows;
+    Eigen::VectorXd g = pin_rows.transpose() * res.r.tail(res.r.size() - bend_rows);
+    const double h = p.length / m;
+    for (int k = 0; k < bend_rows; ++k) {
+      jtj(k + 2, k + 2) += 1 / h;
+      jtj(k + 3, k + 3) += 1 / h;
+      jtj(k + 2, k + 3) -= 1 / h;
+      jtj(k + 3, k + 2) -= 1 / h;
+      const double rk = res.r(k) / std::sqrt(h);
+      g(k + 3) += rk;
+      g(k + 2) -= rk;
+    }
     Eigen::MatrixXd a = jtj;
     a.diagonal().array() += lambda * (jtj.diagonal().array() + 1e-6);
-    const Eigen::VectorXd step = a.ldlt().solve(-g);
+    const Eigen::VectorXd step = a.llt().solve(-g);
     const Eigen::VectorXd trial = v + step;
     Residuals trial_res = evaluate(p, trial);
     const double trial_cost = trial_res.r.squaredNorm();
@@ -106,7 +123,7 @@ RodShape solve_rod(const RodProblem& p) {
       res = std::move(trial_res);
       cost = trial_cost;
       lambda = std::max(lambda * 0.3, 1e-7);
-      if (gain < 1e-9 * (1 + cost)) break;
+      if (gain < 1e-7 * (1 + cost)) break;
     } else {
       lambda *= 10;
       if (lambda > 1e8) break;

@@ -104,7 +104,7 @@ Pin pin_at(const Guide& g, int i, bool heading) {
 SceneRod solve_guided(const Guide& g, double complexity, double k0, bool closed, double width) {
   RodProblem p;
   p.length = g.length();
-  p.segments = std::clamp(static_cast<int>(p.length / 9), 24, 150);
+  p.segments = std::clamp(static_cast<int>(p.length / 12), 24, 110);
   p.natural_curvature = k0;
   p.closed = closed;
   const double h = p.length / p.segments;
