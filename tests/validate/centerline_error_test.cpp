@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <random>
+#include <algorithm>
 
 #include <gtest/gtest.h>
 
@@ -23,6 +25,51 @@ TEST(CenterlineError, ClosedPolylineIncludesTheSeam) {
   const std::vector<cv::Point2d> square = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
   EXPECT_DOUBLE_EQ(distances_to_polyline({{-2, 5}}, Polyline{square, true})[0], 2.0);
   EXPECT_NEAR(distances_to_polyline({{-2, 5}}, Polyline{square, false})[0], std::sqrt(29.0), 1e-12);
+}
+
+TEST(CenterlineError, MatchesBruteForceOnRandomPolylines) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coord(-50, 250), step(-6, 6);
+  for (int trial = 0; trial < 50; ++trial) {
+    Polyline line{{}, trial % 2 == 0};
+    cv::Point2d p(coord(rng), coord(rng));
+    const bool jumps = trial % 5 == 0;  // long segments crossing many cells
+    const int n = 1 + static_cast<int>(rng() % (jumps ? 12 : 120));
+    for (int i = 0; i < n; ++i) {
+      line.points.push_back(p);
+      p += jumps ? cv::Point2d(coord(rng), coord(rng)) : cv::Point2d(step(rng), step(rng));
+    }
+    std::vector<cv::Point2d> queries;
+    for (int q = 0; q < 40; ++q) queries.emplace_back(coord(rng) * 2, coord(rng) * 2);
+    const std::vector<double> d = distances_to_polyline(queries, line);
+    for (size_t q = 0; q < queries.size(); ++q) {
+      double best = std::numeric_limits<double>::infinity();
+      const size_t segments = n == 1 ? 1 : (line.closed ? n : n - 1);
+      for (size_t s = 0; s < segments; ++s) {
+        const cv::Point2d a = line.points[s], b = line.points[n == 1 ? 0 : (s + 1) % n];
+        const double len2 = (b - a).dot(b - a);
+        const double t = len2 > 0 ? std::clamp((queries[q] - a).dot(b - a) / len2, 0.0, 1.0) : 0;
+        best = std::min(best, cv::norm(queries[q] - (a + t * (b - a))));
+      }
+      EXPECT_NEAR(d[q], best, 1e-9) << "trial " << trial << " query " << q;
+    }
+  }
+}
+
+TEST(CenterlineError, GroundTruthOutsideThePictureIsNotCounted) {
+  synth::SceneAnnotation scene;
+  scene.width = 10;
+  scene.height = 10;
+  synth::RodAnnotation a;
+  a.id = 1;
+  for (int x = -5; x <= 5; ++x) a.centerline.emplace_back(x, 2);  // 6 samples inside
+  scene.rods = {a};
+  DiceScore dice;
+  dice.gt_ids = {1};
+  dice.matched_pred = {1};
+  const CenterlineDistances d =
+      centerline_distances(scene, {Polyline{{{0, 2}, {5, 2}}, false}}, dice);
+  EXPECT_EQ(d.gt_to_pred, std::vector<double>(6, 0.0));
 }
 
 TEST(CenterlineError, EmptyTargetIsInfinitelyFar) {

@@ -30,7 +30,8 @@ struct CenterlineDistances {
 };
 
 // For every rod matched (dice.matched_pred) to a predicted label L whose DLO L - 1 has a
-// centerline in `predicted`, the distances both ways. Unmatched rods and DLOs add nothing.
+// centerline in `predicted`, the distances both ways; ground-truth samples outside the
+// scene's width x height (when set) are left out. Unmatched rods and DLOs add nothing.
 CenterlineDistances centerline_distances(const synth::SceneAnnotation& scene,
                                          const std::vector<Polyline>& predicted,
                                          const DiceScore& dice);
