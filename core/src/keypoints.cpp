@@ -175,17 +175,27 @@ SkeletonGraph build_skeleton_graph(Skeleton& skeleton, const Keypoints& kp) {
 
 float distance_to_background(const cv::Mat& mask, cv::Point p) {
   const int rows = mask.rows, cols = mask.cols;
-  auto bg = [&](int x, int y) {
-    return x < 0 || y < 0 || x >= cols || y >= rows || !mask.ptr<uint8_t>(y)[x];
-  };
-  if (bg(p.x, p.y)) return 0;
+  if (p.x < 0 || p.y < 0 || p.x >= cols || p.y >= rows || !mask.ptr<uint8_t>(p.y)[p.x]) return 0;
+  const size_t step = mask.step;
+  const uint8_t* c = mask.ptr<uint8_t>(p.y) + p.x;
   int best = std::numeric_limits<int>::max();
+  // Square rings of growing radius k; a zero at ring k is at least k away, so stop once
+  // k * k reaches the best squared distance found.
   for (int k = 1; k * k < best; ++k) {
+    const bool inside = p.x - k >= 0 && p.y - k >= 0 && p.x + k < cols && p.y + k < rows;
+    if (!inside) {  // outside the image counts as background
+      const int border = std::min({p.x + 1, p.y + 1, cols - p.x, rows - p.y});
+      best = std::min(best, border * border);
+    }
     for (int i = -k; i <= k; ++i) {
       const int d = k * k + i * i;
       if (d >= best) continue;
-      if (bg(p.x + i, p.y - k) || bg(p.x + i, p.y + k) || bg(p.x - k, p.y + i) || bg(p.x + k, p.y + i))
-        best = d;
+      auto zero = [&](int dx, int dy) {
+        const int x = p.x + dx, y = p.y + dy;
+        if (inside) return c[static_cast<ptrdiff_t>(dy) * static_cast<ptrdiff_t>(step) + dx] == 0;
+        return x >= 0 && y >= 0 && x < cols && y < rows && mask.ptr<uint8_t>(y)[x] == 0;
+      };
+      if (zero(i, -k) || zero(i, k) || zero(-k, i) || zero(k, i)) best = d;
     }
   }
   return std::sqrt(static_cast<float>(best));

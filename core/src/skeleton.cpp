@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bitset>
+#include <cstring>
 
 #include <opencv2/imgproc.hpp>
 
@@ -51,7 +52,12 @@ std::array<uint8_t, 256> staircase_table() {
   return lut;
 }
 
-constexpr uint8_t kQueued = 2;  // marks a foreground pixel already in the candidate list
+// Marks kept in the image beside the foreground bit 1.
+constexpr uint8_t kQueued = 2;  // in the candidate list
+// Evaluated for sub-iteration 1 / 2 (kSettled << pass) and found to stay; cleared when a
+// neighbour goes, since a pixel's fate depends only on its 8 neighbours.
+constexpr uint8_t kSettled = 4;
+constexpr uint8_t kBothSettled = kSettled | kSettled << 1;
 
 }  // namespace
 
@@ -61,15 +67,17 @@ Skeleton skeletonize(const cv::Mat& mask) {
   CV_Assert(mask.type() == CV_8UC1);
 
   Skeleton sk;
-  sk.buffer = cv::Mat::zeros(mask.rows + 2, mask.cols + 2, CV_8UC1);
+  sk.buffer.create(mask.rows + 2, mask.cols + 2, CV_8UC1);
+  uint8_t* data = sk.buffer.data;
+  const size_t step = sk.buffer.step;
+  std::memset(data, 0, step);  // only the border needs zeroing; the inside is overwritten
+  std::memset(data + (mask.rows + 1) * step, 0, step);
+  for (int y = 1; y <= mask.rows; ++y) data[y * step] = data[y * step + mask.cols + 1] = 0;
   sk.image = sk.buffer(cv::Rect(1, 1, mask.cols, mask.rows));
   cv::threshold(mask, sk.image, 0, 1, cv::THRESH_BINARY);
 
-  uint8_t* data = sk.buffer.data;
-  const size_t step = sk.buffer.step;
-  const ptrdiff_t offs[8] = {-static_cast<ptrdiff_t>(step), -static_cast<ptrdiff_t>(step) + 1, 1,
-                             static_cast<ptrdiff_t>(step) + 1, static_cast<ptrdiff_t>(step),
-                             static_cast<ptrdiff_t>(step) - 1, -1, -static_cast<ptrdiff_t>(step) - 1};
+  const ptrdiff_t s = static_cast<ptrdiff_t>(step);
+  const ptrdiff_t offs[8] = {-s, -s + 1, 1, s + 1, s, s - 1, -1, -s - 1};
 
   // Only pixels on the boundary can be deleted; start with them and, after each
   // sub-iteration, add the foreground neighbours of what was deleted.
@@ -77,41 +85,67 @@ Skeleton skeletonize(const cv::Mat& mask) {
   for (int y = 1; y <= mask.rows; ++y) {
     uint8_t* row = data + y * step;
     for (int x = 1; x <= mask.cols; ++x) {
+      if (x + 8 <= mask.cols) {  // most of an image is background: skip it 8 bytes at a time
+        uint64_t word;
+        std::memcpy(&word, row + x, sizeof word);
+        if (word == 0) {
+          x += 7;
+          continue;
+        }
+      }
       if (row[x] && neighbour_code(row + x, step) != 0xFF) {
         row[x] |= kQueued;
-        candidates.push_back(y * static_cast<ptrdiff_t>(step) + x);
+        candidates.push_back(y * s + x);
       }
     }
   }
 
-  std::vector<ptrdiff_t> removed, kept;
+  std::vector<ptrdiff_t> removed, resting;  // resting: left the list, settled for both passes
   bool changed = true;
   while (changed) {
     changed = false;
     for (int pass = 0; pass < 2; ++pass) {
+      const uint8_t settled = static_cast<uint8_t>(kSettled << pass);
       removed.clear();
-      for (ptrdiff_t i : candidates)
-        if (kZhangSuen[neighbour_code(data + i, step)] & (1 << pass)) removed.push_back(i);
+      size_t kept = 0;
+      for (ptrdiff_t i : candidates) {
+        uint8_t& v = data[i];
+        if (!v) continue;  // deleted in the previous sub-iteration
+        if ((v & kBothSettled) == kBothSettled) {  // stays until a neighbour goes
+          v &= static_cast<uint8_t>(~kQueued);
+          resting.push_back(i);
+          continue;
+        }
+        candidates[kept++] = i;
+        if (v & settled) continue;
+        if (kZhangSuen[neighbour_code(data + i, step)] & (1 << pass))
+          removed.push_back(i);
+        else
+          v |= settled;
+      }
+      candidates.resize(kept);
       if (removed.empty()) continue;
       changed = true;
       for (ptrdiff_t i : removed) data[i] = 0;
-      kept.clear();
-      for (ptrdiff_t i : candidates)
-        if (data[i]) kept.push_back(i);
       for (ptrdiff_t i : removed)
-        for (ptrdiff_t o : offs)
-          if (data[i + o] == 1) {
-            data[i + o] |= kQueued;
-            kept.push_back(i + o);
+        for (ptrdiff_t o : offs) {
+          uint8_t& v = data[i + o];
+          if (!v) continue;
+          v &= static_cast<uint8_t>(~kBothSettled);
+          if (!(v & kQueued)) {
+            v |= kQueued;
+            candidates.push_back(i + o);
           }
-      candidates.swap(kept);
+        }
     }
   }
 
-  // Every remaining pixel is in the candidate list (it touches the background).
+  // Every remaining pixel touches the background, so it is in the list or resting.
+  candidates.insert(candidates.end(), resting.begin(), resting.end());
   std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
   for (ptrdiff_t i : candidates)
-    if (kStaircase[neighbour_code(data + i, step)]) data[i] = 0;
+    if (data[i] && kStaircase[neighbour_code(data + i, step)]) data[i] = 0;
 
   sk.pixels.reserve(candidates.size());
   for (ptrdiff_t i : candidates) {

@@ -63,7 +63,7 @@ float distance_to_background(const cv::Mat& mask, cv::Point p);
 // linearly interpolated between) and returns the radius of the widest DLO: the largest
 // per-branch median radius over branches of at least 5 px (junctions, where the mask is
 // wider than any DLO, do not inflate it). Returns 0 for an empty graph.
-float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride = 3);
+float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride = 4);
 
 // Arc length of an 8-connected pixel chain (1 per straight step, sqrt 2 per diagonal).
 double chain_length(const std::vector<cv::Point>& pixels);

@@ -1,0 +1,110 @@
+// mbest_bench: the detector's speed on a data set, the way the issue asks for it: median
+// milliseconds per frame, per tier and per stage, single thread, mask in, labels and
+// centerlines out. Masks are made once up front (colour filter, or --mask-dir files), so
+// only the detector is timed. Every frame is run --rounds times; medians are over all runs.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "mbest/core/detector.h"
+#include "mbest/core/segmentation.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Frame {
+  cv::Mat mask, image;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"mbest_bench: median detector milliseconds per frame, per tier and per stage"};
+  std::string dataset, json_out;
+  int rounds = 10;
+  app.add_option("DATASET", dataset, "Folder of tiers (e.g. ../shared/datasets/mbest-real): each "
+                 "subfolder with an images/ folder is a tier")->required();
+  app.add_option("--rounds", rounds, "Runs of every frame")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--json", json_out, "Also write the figures to this JSON file");
+  CLI11_PARSE(app, argc, argv);
+
+  std::map<std::string, std::vector<Frame>> tiers;
+  std::error_code ec;
+  for (const auto& tier : fs::directory_iterator(dataset, ec)) {
+    const fs::path images = tier.path() / "images";
+    if (!fs::is_directory(images)) continue;
+    std::vector<fs::path> files;
+    for (const auto& f : fs::directory_iterator(images)) files.push_back(f.path());
+    std::sort(files.begin(), files.end());
+    for (const fs::path& f : files) {
+      auto img = mbest::read_image(f.string());
+      if (!img) continue;
+      auto mask = mbest::colour_filter(img.value());
+      if (!mask) continue;
+      tiers[tier.path().filename().string()].push_back({mask.value(), img.value()});
+    }
+  }
+  if (ec || tiers.empty()) {
+    std::cerr << "mbest_bench: " << dataset << ": no tier folders with images/ found\n";
+    return 2;
+  }
+
+  nlohmann::json out;
+  std::map<std::string, double> tier_median;
+  std::printf("%-6s %6s %10s %10s %10s   per stage (median ms)\n", "tier", "frames", "median_ms",
+              "p10_ms", "p90_ms");
+  for (const auto& [name, frames] : tiers) {
+    std::vector<double> totals;
+    std::map<std::string, std::vector<double>> stages;
+    std::vector<std::string> stage_order;
+    for (int r = 0; r < rounds; ++r)
+      for (const Frame& f : frames) {
+        auto det = mbest::detect(f.mask, f.image);
+        if (!det) {
+          std::cerr << "mbest_bench: " << det.error().message << "\n";
+          return 1;
+        }
+        totals.push_back(det.value().total_ms());
+        for (const auto& s : det.value().timings) {
+          if (!stages.count(s.stage)) stage_order.push_back(s.stage);
+          stages[s.stage].push_back(s.ms);
+        }
+      }
+    std::sort(totals.begin(), totals.end());
+    const double med = median(totals);
+    tier_median[name] = med;
+    std::printf("%-6s %6zu %10.3f %10.3f %10.3f  ", name.c_str(), frames.size(), med,
+                totals[totals.size() / 10], totals[totals.size() * 9 / 10]);
+    nlohmann::json st;
+    for (const std::string& s : stage_order) {
+      st[s] = median(stages[s]);
+      std::printf(" %s %.3f", s.c_str(), median(stages[s]));
+    }
+    std::printf("\n");
+    out["tiers"][name] = {{"frames", frames.size()}, {"runs", totals.size()}, {"median_ms", med},
+                          {"median_stages_ms", st}};
+  }
+  if (tier_median.count("S1") && tier_median.count("S3") && tier_median["S1"] > 0) {
+    const double ratio = tier_median["S3"] / tier_median["S1"];
+    std::printf("S3/S1 median ratio: %.2f\n", ratio);
+    out["s3_over_s1"] = ratio;
+  }
+  if (!json_out.empty()) std::ofstream(json_out) << out.dump(2) << "\n";
+  return 0;
+}
