@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int exit_code = 0;
   mbest::app::add_detect_command(app, &exit_code);
+  mbest::app::add_synth_command(app, &exit_code);
   mbest::app::add_eval_command(app, &exit_code);
   try {
     app.parse(argc, argv);
