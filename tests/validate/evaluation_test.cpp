@@ -1,0 +1,254 @@
+#include "mbest/validate/evaluation.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "mbest/validate/dataset.h"
+#include "mbest/validate/summary.h"
+#include "test_data.h"
+
+namespace mbest::validate {
+namespace {
+
+using namespace testing;  // NOLINT
+
+Evaluation evaluate_ok(const fs::path& root, const fs::path& pred) {
+  Result<Dataset> d = open_dataset(root.string());
+  EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().message);
+  EvalOptions o;
+  o.pred_dir = pred.string();
+  Result<Evaluation> e = evaluate(d.value(), o);
+  EXPECT_TRUE(e.ok()) << (e.ok() ? "" : e.error().message);
+  return e.ok() ? e.value() : Evaluation{};
+}
+
+TEST(Dataset, ListsTiersAndImagesInNaturalOrder) {
+  const fs::path root = fresh_dir();
+  for (const char* stem : {"img10", "img2", "img1"}) add_real_image(root, "S2", stem, two_bars());
+  add_real_image(root, "S1", "img0", two_bars());
+  Result<Dataset> d = open_dataset(root.string());
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_FALSE(d.value().synthetic);
+  EXPECT_EQ(d.value().tiers, (std::vector<std::string>{"S1", "S2"}));
+  std::vector<std::string> stems;
+  for (const DatasetItem& i : d.value().items) stems.push_back(i.tier + "/" + i.stem);
+  EXPECT_EQ(stems, (std::vector<std::string>{"S1/img0", "S2/img1", "S2/img2", "S2/img10"}));
+  EXPECT_EQ(prediction_paths(d.value().items[0], "P").labels, "P/S1/images/img0.labels.png");
+  EXPECT_EQ(prediction_paths(d.value().items[0], "P").json, "P/S1/images/img0.json");
+}
+
+TEST(Dataset, ASingleTierFolderIsItsOwnTier) {
+  const fs::path root = fresh_dir();
+  add_real_image(root, "S3", "img0", two_bars());
+  Result<Dataset> d = open_dataset((root / "S3").string());
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d.value().tiers, (std::vector<std::string>{"S3"}));
+  EXPECT_EQ(prediction_paths(d.value().items[0], "P").labels, "P/images/img0.labels.png");
+}
+
+TEST(Dataset, BadLayoutsNameThePath) {
+  const fs::path root = fresh_dir();
+  Result<Dataset> missing = open_dataset((root / "nope").string());
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().message.find("nope"), std::string::npos);
+
+  Result<Dataset> empty = open_dataset(root.string());
+  ASSERT_FALSE(empty.ok());
+  EXPECT_NE(empty.error().message.find("no tier folder"), std::string::npos);
+
+  add_real_image(root, "S1", "img0", two_bars());
+  fs::remove(root / "S1" / "labels" / "img0.png");
+  Result<Dataset> no_label = open_dataset(root.string());
+  ASSERT_FALSE(no_label.ok());
+  EXPECT_NE(no_label.error().message.find("labels/img0.png"), std::string::npos);
+
+  fs::remove_all(root / "S1" / "labels");
+  Result<Dataset> no_labels_dir = open_dataset(root.string());
+  ASSERT_FALSE(no_labels_dir.ok());
+  EXPECT_NE(no_labels_dir.error().message.find("missing folder"), std::string::npos);
+}
+
+TEST(Evaluation, ScoresPredictionsAndMissingOnesAsZero) {
+  const fs::path root = fresh_dir(), pred = root / "pred";
+  const cv::Mat gt = two_bars();
+  cv::Mat half = gt.clone();
+  half.setTo(0, gt == 2);  // finds one bar of two
+  add_real_image(root / "data", "S1", "img0", gt);
+  add_real_image(root / "data", "S1", "img1", gt);
+  add_real_image(root / "data", "S1", "img2", gt);
+  add_prediction(pred, "S1", "img0", gt);
+  add_prediction(pred, "S1", "img1", half);
+  // img2 has no prediction.
+  const Evaluation e = evaluate_ok(root / "data", pred);
+  ASSERT_EQ(e.images.size(), 3u);
+  EXPECT_DOUBLE_EQ(e.images[0].dice.strict, 1.0);
+  EXPECT_DOUBLE_EQ(e.images[1].dice.strict, 0.5);
+  EXPECT_DOUBLE_EQ(e.images[1].dice.lenient, 0.5);
+  EXPECT_DOUBLE_EQ(e.images[2].dice.strict, 0.0);
+  EXPECT_NE(e.images[2].prediction_error.find("img2.labels.png"), std::string::npos);
+  EXPECT_TRUE(e.images[0].prediction_error.empty());
+
+  const Summary s = summarise(e);
+  ASSERT_EQ(s.tiers.size(), 1u);
+  const TierSummary& t = s.tiers[0];
+  EXPECT_EQ(t.images, 3);
+  EXPECT_NEAR(t.strict_mean, 50.0, 1e-9);
+  EXPECT_NEAR(t.strict_std, 100 * std::sqrt((0.25 + 0 + 0.25) / 3), 1e-9);  // population std
+  EXPECT_EQ(t.below_90, 2);
+  EXPECT_EQ(t.below_95, 2);
+  EXPECT_EQ(t.count_errors, 2);
+  EXPECT_EQ(t.missing_predictions, 1);
+  ASSERT_EQ(s.strict_by_rod_count.size(), 1u);
+  EXPECT_EQ(s.strict_by_rod_count[0].bin.label, "2");
+  EXPECT_EQ(worst_images(e, 2), (std::vector<int>{2, 1}));
+}
+
+TEST(Evaluation, BelowNinetyFiveButNotNinety) {
+  const fs::path root = fresh_dir(), pred = root / "pred";
+  cv::Mat gt = cv::Mat::zeros(30, 40, CV_8UC1), p = gt.clone();
+  gt(cv::Rect(0, 0, 40, 10)) = 1;  // 400 px
+  p(cv::Rect(0, 0, 40, 9)) = 1;    // 360 px: D = 720 / 760 = 0.947
+  add_real_image(root / "data", "S1", "img0", gt);
+  add_prediction(pred, "S1", "img0", p);
+  const Summary s = summarise(evaluate_ok(root / "data", pred));
+  EXPECT_NEAR(s.tiers[0].strict_mean, 100 * 720.0 / 760, 1e-9);
+  EXPECT_EQ(s.tiers[0].below_90, 0);
+  EXPECT_EQ(s.tiers[0].below_95, 1);
+  EXPECT_EQ(s.tiers[0].count_errors, 0);
+}
+
+TEST(Evaluation, UnusablePredictionsScoreZeroWithTheReason) {
+  const fs::path root = fresh_dir(), pred = root / "pred";
+  add_real_image(root / "data", "S1", "img0", two_bars());
+  add_real_image(root / "data", "S1", "img1", two_bars());
+  add_prediction(pred, "S1", "img0", cv::Mat::zeros(31, 40, CV_8UC1));  // wrong size
+  write_text(pred / "S1" / "images" / "img1.labels.png", "not a png");
+  const Evaluation e = evaluate_ok(root / "data", pred);
+  ASSERT_EQ(e.images.size(), 2u);
+  EXPECT_DOUBLE_EQ(e.images[0].dice.strict, 0.0);
+  EXPECT_NE(e.images[0].prediction_error.find("differs from the ground truth"), std::string::npos);
+  EXPECT_DOUBLE_EQ(e.images[1].dice.strict, 0.0);
+  EXPECT_NE(e.images[1].prediction_error.find("cannot read"), std::string::npos);
+}
+
+TEST(Evaluation, UnreadableGroundTruthIsAnErrorNamingTheFile) {
+  const fs::path root = fresh_dir();
+  add_real_image(root / "data", "S1", "img0", two_bars());
+  write_text(root / "data" / "S1" / "labels" / "img0.png", "garbage");
+  Result<Dataset> d = open_dataset((root / "data").string());
+  ASSERT_TRUE(d.ok());
+  EvalOptions o;
+  o.pred_dir = (root / "pred").string();
+  Result<Evaluation> e = evaluate(d.value(), o);
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error().message.find("labels/img0.png"), std::string::npos);
+
+  write_png(root / "data" / "S1" / "labels" / "img0.png", cv::Mat::zeros(30, 40, CV_8UC3));
+  Result<Evaluation> colour = evaluate(d.value(), o);
+  ASSERT_FALSE(colour.ok());
+  EXPECT_NE(colour.error().message.find("1-channel"), std::string::npos);
+}
+
+TEST(Evaluation, KeepsOnlyTheWorstPredictions) {
+  const fs::path root = fresh_dir(), pred = root / "pred";
+  const cv::Mat gt = two_bars();
+  for (int i = 0; i < 6; ++i) {
+    cv::Mat p = gt.clone();
+    p(cv::Rect(0, 5, 4 * i, 4)) = 0;  // image i loses more of bar 1 the larger i is
+    add_real_image(root / "data", "S1", "img" + std::to_string(i), gt);
+    add_prediction(pred, "S1", "img" + std::to_string(i), p);
+  }
+  Result<Dataset> d = open_dataset((root / "data").string());
+  EvalOptions o;
+  o.pred_dir = pred.string();
+  o.keep_worst = 2;
+  Result<Evaluation> e = evaluate(d.value(), o);
+  ASSERT_TRUE(e.ok());
+  for (int i = 0; i < 6; ++i)
+    EXPECT_EQ(e.value().images[i].kept_prediction.empty(), i < 4) << "image " << i;
+  EXPECT_EQ(worst_images(e.value(), 2), (std::vector<int>{5, 4}));
+}
+
+}  // namespace
+}  // namespace mbest::validate
+
+namespace mbest::validate {
+namespace {
+
+using namespace testing;  // NOLINT
+
+TEST(Evaluation, SyntheticScenesGetCrossingsAndCenterlines) {
+  const fs::path root = fresh_dir(), pred = root / "pred";
+  synth::SceneAnnotation scene;
+  const cv::Mat gt = add_synth_scene(root / "data", "s2", "000000", &scene);
+  // Predicted labels: rod 1 as 2, rod 2 as 1; centerlines: DLO 0 (label 1) is rod 2's, one
+  // pixel off; DLO 1 (label 2) is rod 1's exactly.
+  cv::Mat p = cv::Mat::zeros(gt.size(), CV_16UC1);
+  p.setTo(2, gt == 1);
+  p.setTo(1, gt == 2);
+  add_prediction(pred, "s2", "000000", p);
+  std::string json = "{\"dlos\": [{\"centerline\": [";
+  for (size_t i = 0; i < scene.rods[1].centerline.size(); ++i)
+    json += (i ? ",[" : "[") + std::to_string(scene.rods[1].centerline[i].x + 1) + "," +
+            std::to_string(scene.rods[1].centerline[i].y) + "]";
+  json += "]}, {\"centerline\": [[5, 40], [95, 40]]}]}";
+  write_text(pred / "s2" / "images" / "000000.json", json);
+
+  Result<Dataset> d = open_dataset((root / "data").string());
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_TRUE(d.value().synthetic);
+  EvalOptions o;
+  o.pred_dir = pred.string();
+  Result<Evaluation> e = evaluate(d.value(), o);
+  ASSERT_TRUE(e.ok()) << e.error().message;
+  const ImageResult& r = e.value().images[0];
+  EXPECT_DOUBLE_EQ(r.dice.strict, 1.0);
+  ASSERT_EQ(r.rods.size(), 2u);
+  EXPECT_EQ(r.rods[0].matched_pred, 2);
+  EXPECT_DOUBLE_EQ(r.rods[1].complexity, 4.0);
+  ASSERT_EQ(r.crossings.size(), 1u);
+  EXPECT_TRUE(r.crossings[0].pairing_correct);
+  EXPECT_TRUE(r.crossings[0].order_correct);
+  ASSERT_TRUE(r.has_centerlines);
+  const DistanceSummary p2g = summarise(r.centerline.pred_to_gt);
+  EXPECT_GT(p2g.mean, 0.1);  // rod 2's prediction is one pixel to the right...
+  EXPECT_LT(p2g.mean, 1.0);  // ...which is under a pixel from a 60-degree line
+  EXPECT_EQ(p2g.count, static_cast<int>(scene.rods[1].centerline.size()) + 2);
+
+  const Summary s = summarise(e.value());
+  EXPECT_EQ(s.all.crossings, 1);
+  EXPECT_EQ(s.pairing_by_angle[3].correct, 1);  // 45-90
+  EXPECT_EQ(s.pairing_by_complexity[2].assessed, 1);  // max(0.5, 4.0) is in 3.14-6.28
+  EXPECT_EQ(s.rod_dice_by_complexity[0].count, 1);
+  EXPECT_EQ(s.rod_dice_by_complexity[2].count, 1);
+}
+
+TEST(Evaluation, MalformedPredictionJsonSkipsCenterlinesWithAWarning) {
+  const fs::path root = fresh_dir(), pred = root / "pred";
+  const cv::Mat gt = add_synth_scene(root / "data", "s2", "000000");
+  add_prediction(pred, "s2", "000000", gt);
+  write_text(pred / "s2" / "images" / "000000.json", "{\"dlos\": 3}");
+  Result<Dataset> d = open_dataset((root / "data").string());
+  EvalOptions o;
+  o.pred_dir = pred.string();
+  Result<Evaluation> e = evaluate(d.value(), o);
+  ASSERT_TRUE(e.ok());
+  EXPECT_FALSE(e.value().images[0].has_centerlines);
+  ASSERT_EQ(e.value().images[0].warnings.size(), 1u);
+  EXPECT_NE(e.value().images[0].warnings[0].find("000000.json"), std::string::npos);
+  EXPECT_DOUBLE_EQ(e.value().images[0].dice.strict, 1.0);
+}
+
+TEST(Evaluation, SynthImageWithoutAnnotationIsAnError) {
+  const fs::path root = fresh_dir();
+  add_synth_scene(root, "s2", "000000");
+  add_synth_scene(root, "s2", "000001");
+  fs::remove(root / "s2" / "annotations" / "000001.json");
+  Result<Dataset> d = open_dataset(root.string());
+  ASSERT_FALSE(d.ok());
+  EXPECT_NE(d.error().message.find("000001.json"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mbest::validate
