@@ -1,0 +1,141 @@
+#include "mbest/validate/report.h"
+
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "mbest/validate/dataset.h"
+#include "test_data.h"
+
+namespace mbest::validate {
+namespace {
+
+using namespace testing;  // NOLINT
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Tier S1: a perfect image and one finding half; tier S2: a missing prediction.
+Evaluation small_evaluation(const fs::path& root, int keep_worst) {
+  const cv::Mat gt = two_bars();
+  cv::Mat half = gt.clone();
+  half.setTo(0, gt == 2);
+  add_real_image(root / "data", "S1", "img0", gt);
+  add_real_image(root / "data", "S1", "img1", gt);
+  add_real_image(root / "data", "S2", "img0", gt);
+  add_prediction(root / "pred", "S1", "img0", gt);
+  add_prediction(root / "pred", "S1", "img1", half);
+  Result<Dataset> d = open_dataset((root / "data").string());
+  EvalOptions o;
+  o.pred_dir = (root / "pred").string();
+  o.keep_worst = keep_worst;
+  Result<Evaluation> e = evaluate(d.value(), o);
+  EXPECT_TRUE(e.ok());
+  return e.value();
+}
+
+TEST(Report, TerminalTableHasOneRowPerTierAndAll) {
+  const Evaluation e = small_evaluation(fresh_dir(), 0);
+  const std::string t = tier_table(e, summarise(e));
+  EXPECT_NE(t.find("strict DICE %"), std::string::npos);
+  EXPECT_NE(t.find("S1         2          75.00  25.00      75.00         1         1             1"),
+            std::string::npos)
+      << t;
+  EXPECT_NE(t.find("S2         1           0.00"), std::string::npos) << t;
+  EXPECT_NE(t.find("all        3          50.00"), std::string::npos) << t;
+  EXPECT_NE(t.find("1 image(s) had no usable prediction"), std::string::npos) << t;
+}
+
+TEST(Report, WritesJsonMarkdownAndHtmlWithEveryImage) {
+  const fs::path root = fresh_dir();
+  const Evaluation e = small_evaluation(root, 2);
+  const Summary s = summarise(e);
+  const fs::path out = root / "report" / "nested";
+  Status st = write_report(e, s, ReportInfo{"mbest eval data --pred pred"}, out.string());
+  ASSERT_TRUE(st.ok()) << st.error().message;
+  std::vector<std::string> files;
+  for (const auto& f : fs::directory_iterator(out)) files.push_back(f.path().filename().string());
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"report.html", "report.json", "report.md"}));
+
+  const nlohmann::json j = nlohmann::json::parse(read_all(out / "report.json"));
+  EXPECT_EQ(j["command"], "mbest eval data --pred pred");
+  EXPECT_EQ(j["layout"], "mbest-real");
+  ASSERT_EQ(j["tiers"].size(), 2u);
+  EXPECT_DOUBLE_EQ(j["tiers"][0]["strict_dice_pct"].get<double>(), 75.0);
+  EXPECT_EQ(j["tiers"][0]["below_95"], 1);
+  EXPECT_EQ(j["tiers"][1]["missing_predictions"], 1);
+  ASSERT_EQ(j["images"].size(), 3u);
+  EXPECT_EQ(j["images"][1]["stem"], "img1");
+  EXPECT_DOUBLE_EQ(j["images"][1]["strict"].get<double>(), 0.5);
+  EXPECT_EQ(j["images"][1]["instances"].size(), 2u);
+
+  const std::string md = read_all(out / "report.md");
+  EXPECT_NE(md.find("| S1 | 2 | 75.00 | 25.00 | 75.00 | 1 | 1 | 1 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| S2/img0 | 0.00 |"), std::string::npos) << md;
+
+  const std::string html = read_all(out / "report.html");
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(html.find("</html>"), std::string::npos);
+  EXPECT_NE(html.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos);  // a PNG chart
+  // The gallery: the two worst images, each an inlined JPEG.
+  size_t jpegs = 0;
+  for (size_t at = html.find("data:image/jpeg;base64,/9j/"); at != std::string::npos;
+       at = html.find("data:image/jpeg;base64,/9j/", at + 1))
+    ++jpegs;
+  EXPECT_EQ(jpegs, 2u);
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);  // self-contained
+}
+
+TEST(Report, RewritingReplacesTheReport) {
+  const fs::path root = fresh_dir();
+  const Evaluation e = small_evaluation(root, 0);
+  write_text(root / "report" / "report.md", "old");
+  ASSERT_TRUE(write_report(e, summarise(e), {}, (root / "report").string()).ok());
+  EXPECT_NE(read_all(root / "report" / "report.md"), "old");
+}
+
+TEST(Report, UnwritableFolderIsAnErrorNamingIt) {
+  const fs::path root = fresh_dir();
+  const Evaluation e = small_evaluation(root, 0);
+  write_text(root / "taken", "a file where the folder should be");
+  Status st = write_report(e, summarise(e), {}, (root / "taken").string());
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.error().message.find("taken"), std::string::npos);
+  fs::create_directories(root / "dir" / "report.json");  // a folder where a file should be
+  Status blocked = write_report(e, summarise(e), {}, (root / "dir").string());
+  ASSERT_FALSE(blocked.ok());
+  EXPECT_NE(blocked.error().message.find("report.json"), std::string::npos);
+  for (const auto& f : fs::directory_iterator(root / "dir"))
+    EXPECT_EQ(f.path().filename().string().find(".tmp"), std::string::npos) << f.path();
+}
+
+TEST(Report, SyntheticReportHasCrossingTablesAndBins) {
+  const fs::path root = fresh_dir();
+  const cv::Mat gt = add_synth_scene(root / "data", "s2", "000000");
+  add_prediction(root / "pred", "s2", "000000", gt);
+  Result<Dataset> d = open_dataset((root / "data").string());
+  EvalOptions o;
+  o.pred_dir = (root / "pred").string();
+  Result<Evaluation> e = evaluate(d.value(), o);
+  ASSERT_TRUE(e.ok());
+  const Summary s = summarise(e.value());
+  const std::string md = report_markdown(e.value(), s, {});
+  EXPECT_NE(md.find("| 45-90 | 100.00 | 1 | 100.00 | 1 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("total_turning_rad"), std::string::npos);
+  const nlohmann::json j = nlohmann::json::parse(report_json(e.value(), s, {}));
+  EXPECT_EQ(j["layout"], "synth");
+  EXPECT_EQ(j["pairing_by_angle"][3]["correct"], 1);
+  EXPECT_EQ(j["images"][0]["crossings"][0]["pairing_correct"], true);
+  const std::string t = tier_table(e.value(), s);
+  EXPECT_NE(t.find("pairing %"), std::string::npos) << t;
+}
+
+}  // namespace
+}  // namespace mbest::validate
