@@ -219,9 +219,9 @@ TEST(Evaluation, SyntheticScenesGetCrossingsAndCenterlines) {
   const Summary s = summarise(e.value());
   EXPECT_EQ(s.all.crossings, 1);
   EXPECT_EQ(s.pairing_by_angle[3].correct, 1);  // 45-90
-  EXPECT_EQ(s.pairing_by_complexity[2].assessed, 1);  // max(0.5, 4.0) is in 3.14-6.28
+  EXPECT_EQ(s.pairing_by_complexity[1].assessed, 1);  // max(0.5, 4.0) is in 3.14-6.28
   EXPECT_EQ(s.rod_dice_by_complexity[0].count, 1);
-  EXPECT_EQ(s.rod_dice_by_complexity[2].count, 1);
+  EXPECT_EQ(s.rod_dice_by_complexity[1].count, 1);
 }
 
 TEST(Evaluation, MalformedPredictionJsonSkipsCenterlinesWithAWarning) {
@@ -248,6 +248,25 @@ TEST(Evaluation, SynthImageWithoutAnnotationIsAnError) {
   Result<Dataset> d = open_dataset(root.string());
   ASSERT_FALSE(d.ok());
   EXPECT_NE(d.error().message.find("000001.json"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mbest::validate
+
+namespace mbest::validate {
+namespace {
+
+TEST(Summary, BinsAreHalfOpenAndTheLastHoldsItsTop) {
+  EXPECT_EQ(bin_index(angle_bins(), 0), 0);
+  EXPECT_EQ(bin_index(angle_bins(), 9.99), 0);
+  EXPECT_EQ(bin_index(angle_bins(), 10), 1);
+  EXPECT_EQ(bin_index(angle_bins(), 45), 3);
+  EXPECT_EQ(bin_index(angle_bins(), 90), 3);
+  EXPECT_EQ(bin_index(angle_bins(), 90.5), -1);
+  EXPECT_EQ(bin_index(complexity_bins(), 3.0), 0);
+  EXPECT_EQ(bin_index(complexity_bins(), 7.0), 2);
+  EXPECT_EQ(bin_index(complexity_bins(), 1e6), 4);
+  EXPECT_EQ(bin_index(complexity_bins(), -1), -1);
 }
 
 }  // namespace

@@ -86,7 +86,7 @@ std::string bar_chart_png(const std::string& title, const std::string& x_title,
       const ChartSeries& ser = series[s];
       const double v = c < ser.percent.size() ? ser.percent[c] : NAN;
       const int n = c < ser.counts.size() ? ser.counts[c] : 0;
-      if (s == 0) counts = "n=" + std::to_string(n);
+      counts += (s == 0 ? "n=" : "/") + std::to_string(n);
       const double x = bars_x + bar_w * s;
       if (std::isnan(v)) {
         cairo_set_source_rgb(cr, 0.55, 0.55, 0.55);
@@ -100,6 +100,11 @@ std::string bar_chart_png(const std::string& title, const std::string& x_title,
       cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
       text(cr, format(100 - y0 <= 10 ? "%.2f" : "%.1f", v), x + bar_w / 2, y_of(v) - 3, 10, 0.5);
     }
+    // One count when every series has the same, else one per series: "n=8/6".
+    bool same = true;
+    for (const ChartSeries& ser : series)
+      same = same && c < ser.counts.size() && ser.counts[c] == series[0].counts[c];
+    if (same && !series.empty()) counts = "n=" + std::to_string(series[0].counts[c]);
     cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
     text(cr, counts, group_x + group_w / 2, kTop + plot_h + 30, 10, 0.5);
   }

@@ -202,8 +202,9 @@ std::string definitions(const Evaluation& e) {
            "and two rods keep different labels; order is correct when the predicted label at "
            "the crossing is the one matched to the top rod (not assessed for self-crossings). "
            "Curvature complexity: total absolute turning of the rod (total_turning_rad, "
-           "radians), a crossing takes the larger of its rods'; bins 0-1.57, 1.57-3.14, "
-           "3.14-6.28, 6.28-12.57, 12.57+. Angle bins 0-10, 10-20, 20-45, 45-90 degrees. "
+           "radians), a crossing takes the larger of its rods'; bins of half turns: 0-3.14, "
+           "3.14-6.28, 6.28-9.42, 9.42-12.57, 12.57+. Angle bins 0-10, 10-20, 20-45, 45-90 "
+           "degrees. "
            "Centerline error: pixel distance from each predicted centerline point to the matched "
            "rod's ground-truth centerline and back, pooled per tier; p95 interpolated.";
   return out.str();

@@ -94,10 +94,10 @@ const std::vector<Bin>& angle_bins() {
 }
 
 const std::vector<Bin>& complexity_bins() {
-  static const std::vector<Bin> bins = {{"0-1.57", 0, kPi / 2},
-                                        {"1.57-3.14", kPi / 2, kPi},
+  static const std::vector<Bin> bins = {{"0-3.14", 0, kPi},
                                         {"3.14-6.28", kPi, 2 * kPi},
-                                        {"6.28-12.57", 2 * kPi, 4 * kPi},
+                                        {"6.28-9.42", 2 * kPi, 3 * kPi},
+                                        {"9.42-12.57", 3 * kPi, 4 * kPi},
                                         {"12.57+", 4 * kPi, std::numeric_limits<double>::infinity()}};
   return bins;
 }

@@ -17,8 +17,8 @@ struct Bin {
 
 // Crossing angle, degrees: 0-10, 10-20, 20-45, 45-90.
 const std::vector<Bin>& angle_bins();
-// Curvature complexity of a rod: its total absolute turning, total_turning_rad, in radians.
-// 0-1.57 (under a quarter turn), 1.57-3.14, 3.14-6.28, 6.28-12.57, 12.57 and more.
+// Curvature complexity of a rod: its total absolute turning, total_turning_rad, in radians,
+// binned by half turns: 0-π, π-2π, 2π-3π, 3π-4π, 4π and more (labels 0-3.14, ..., 12.57+).
 // A crossing's complexity is the larger of its two rods'.
 const std::vector<Bin>& complexity_bins();
 // Index of the bin holding `value`, -1 when none does.
