@@ -63,7 +63,7 @@ Result<Prediction> run_detector(const DatasetItem& item) {
     p.error = item.image + ": colour filter failed: " + mask.error().message;
     return p;
   }
-  // The detector is work in progress: whatever it throws is its failure on this image.
+  // An exception from the detector is its failure on this image, not the evaluation's.
   Result<Detection> detection = Error{"no result"};
   try {
     detection = detect(mask.value(), bgr.value());
