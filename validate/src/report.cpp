@@ -481,7 +481,8 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
       << "table{border-collapse:collapse;margin:0.5em 0 1.5em}\n"
       << "th,td{border:1px solid #ccc;padding:3px 8px}th{background:#f0f0f0}\n"
       << "td.num{text-align:right;font-variant-numeric:tabular-nums}\n"
-      << ".chart{margin:0.5em 0.5em 1em 0;border:1px solid #ddd}\n"
+      << ".charts{display:flex;flex-wrap:wrap;gap:0.5em}\n"
+      << ".chart{width:540px;max-width:100%;border:1px solid #ddd}\n"
       << "figure{margin:0 0 1.5em}figcaption{font-size:90%;color:#444}\n"
       << ".key span{display:inline-block;padding:0 6px;margin-right:6px;color:#000}\n"
       << "</style></head><body>\n<h1>mbest eval report</h1>\n<ul>\n"
@@ -495,7 +496,7 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
     out << "<h2>Crossing resolution and centerline error per tier</h2>\n"
         << html_table(crossing_header(), crossing_rows(s));
 
-  out << "<h2>Charts</h2>\n"
+  out << "<h2>Charts</h2>\n<div class=charts>\n"
       << chart_img(bar_chart_png("Strict matched DICE by number of rods", "rods in the image",
                                  labels_of(s.strict_by_rod_count),
                                  {mean_series("strict DICE", s.strict_by_rod_count)}));
@@ -512,8 +513,11 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
         << chart_img(bar_chart_png("Matched DICE of each rod by curvature complexity",
                                    "total absolute turning of the rod (radians)",
                                    labels_of(s.rod_dice_by_complexity),
-                                   {mean_series("rod DICE", s.rod_dice_by_complexity)}))
-        << "<h3>Crossings by angle</h3>\n"
+                                   {mean_series("rod DICE", s.rod_dice_by_complexity)}));
+  }
+  out << "</div>\n";
+  if (synthetic(e)) {
+    out << "<h3>Crossings by angle</h3>\n"
         << html_table(bin_header("angle (degrees)"), bin_rows(s.pairing_by_angle, s.order_by_angle))
         << "<h3>Crossings by curvature complexity</h3>\n"
         << html_table(bin_header("total_turning_rad"),
