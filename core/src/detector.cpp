@@ -44,8 +44,10 @@ double line_angle_deg(cv::Point2f a, cv::Point2f b) {
   return angle > 90 ? 180 - angle : angle;
 }
 
+// A strand's direction through a crossing: the mean of its fitted tangents on both sides
+// (the chord between the attachment points is bent by the skeleton near the junction).
 cv::Point2f direction(const Passage& p) {
-  return p.to_tangent.point - p.from_tangent.point;
+  return p.to_tangent.direction - p.from_tangent.direction;
 }
 
 // Closest approach of two paths: the midpoint of their closest pixels.
@@ -128,7 +130,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     r = std::max(1.0f, measure_radii(g, mask));
     return g;
   });
-  stage("prune", [&] { return prune_split_ends(graph, 2 * r); });
+  stage("prune", [&] { return prune_split_ends(graph, 2 * r, mask.size()); });
   auto regions = stage("junctions", [&] { return group_junctions(graph, r, 10 * r, 30 * r); });
   auto passages = stage("bending", [&] {
     return build_passages(graph, regions, config.cut_radii * r, config.fit_radii * r);

@@ -35,7 +35,7 @@ cv::Mat instance_labels(const cv::Mat& mask, const std::vector<Dlo>& dlos,
     const uint16_t id = static_cast<uint16_t>(top.dlo + 1) | kBand;
     for (size_t k = 0; k < top.path.size(); ++k) {
       const cv::Point c = top.path[k];
-      const float rr = top.radius[k] + 0.5f;
+      const float rr = top.radius[k] - 0.5f;  // radius is half the width + 0.5 px
       const int ri = static_cast<int>(std::ceil(rr));
       for (int dy = -ri; dy <= ri; ++dy)
         for (int dx = -ri; dx <= ri; ++dx) {

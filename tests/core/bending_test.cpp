@@ -1,0 +1,66 @@
+#include "mbest/core/bending.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace mbest {
+namespace {
+
+cv::Point2f dir(double deg) {
+  return {static_cast<float>(std::cos(deg * M_PI / 180)), static_cast<float>(std::sin(deg * M_PI / 180))};
+}
+
+// An exit `dist` px from the origin at angle `deg`, pointing away from it.
+BranchTangent exit_at(double deg, double dist = 12) {
+  BranchTangent t;
+  t.direction = dir(deg);
+  t.point = t.direction * static_cast<float>(dist);
+  return t;
+}
+
+TEST(Bending, DiscreteCurvatureIsTwiceTheTangentOfHalfTheTurn) {
+  EXPECT_NEAR(discrete_curvature(dir(0), dir(0)), 0, 1e-9);
+  for (double turn : {10.0, 45.0, 90.0, 150.0})
+    EXPECT_NEAR(discrete_curvature(dir(0), dir(turn)), 2 * std::tan(turn * M_PI / 360), 1e-5);
+  // Turning back is the worst case, not 0/0.
+  EXPECT_GT(discrete_curvature(dir(0), dir(180)), 1000);
+}
+
+TEST(Bending, XCrossingPairsStraightThrough) {
+  for (double angle : {90.0, 45.0, 20.0, 10.0}) {
+    const std::vector<BranchTangent> exits{exit_at(0), exit_at(angle), exit_at(180), exit_at(180 + angle)};
+    auto pairs = min_energy_pairing(exits);
+    ASSERT_EQ(pairs.size(), 2u);
+    for (auto [a, b] : pairs) EXPECT_EQ(std::abs(a - b), 2) << "angle " << angle;
+  }
+}
+
+TEST(Bending, NearParallelStrandsAreTellApartByTheirOffset) {
+  // Two strands crossing at 6 degrees, exits far along a long overlap.
+  const double a = 3;
+  std::vector<BranchTangent> exits{exit_at(a, 60), exit_at(-a, 60), exit_at(180 + a, 60), exit_at(180 - a, 60)};
+  auto pairs = min_energy_pairing(exits);
+  ASSERT_EQ(pairs.size(), 2u);
+  for (auto [i, j] : pairs) EXPECT_EQ(std::abs(i - j), 2);
+}
+
+TEST(Bending, SixExitsOfThreeStrandsThroughOnePoint) {
+  std::vector<BranchTangent> exits;
+  for (double d : {0.0, 60.0, 120.0, 180.0, 240.0, 300.0}) exits.push_back(exit_at(d));
+  auto pairs = min_energy_pairing(exits);
+  ASSERT_EQ(pairs.size(), 3u);
+  for (auto [i, j] : pairs) EXPECT_EQ(std::abs(i - j), 3);
+}
+
+TEST(Bending, OddExitCountLeavesTheEndingStrandUnpaired) {
+  // A T: a strand ends on another that runs straight through.
+  const std::vector<BranchTangent> exits{exit_at(0), exit_at(180), exit_at(90)};
+  auto pairs = min_energy_pairing(exits);
+  ASSERT_EQ(pairs.size(), 1u);
+  EXPECT_EQ(std::min(pairs[0].first, pairs[0].second), 0);
+  EXPECT_EQ(std::max(pairs[0].first, pairs[0].second), 1);
+}
+
+}  // namespace
+}  // namespace mbest

@@ -1,0 +1,128 @@
+// The `mbest detect` command as a user runs it: outputs, progress, and bad input.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "scenes.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandRun {
+  int code;
+  std::string output;  // stdout and stderr
+};
+
+CommandRun mbest(const std::string& args) {
+  const std::string cmd = std::string(MBEST_BINARY) + " " + args + " 2>&1";
+  CommandRun r{0, ""};
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (p && fgets(buf, sizeof buf, p)) r.output += buf;
+  const int status = p ? pclose(p) : -1;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class DetectCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = fs::temp_directory_path() /
+          ("mbest_detect_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir);
+    fs::create_directories(dir / "data/a/images");
+    cv::Mat img = cv::Mat::zeros(120, 200, CV_8UC3);
+    cv::Mat m = cv::Mat::zeros(120, 200, CV_8UC1);
+    mbest::test::draw_rod(m, {{10, 60}, {190, 60}}, 13);
+    img.setTo(cv::Scalar(90, 170, 60), m);
+    cv::imwrite((dir / "data/a/images/good.png").string(), img);
+    std::ofstream(dir / "data/a/images/broken.jpg") << "not a jpeg";
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  static int hidden_files(const fs::path& root) {
+    int n = 0;
+    for (const auto& e : fs::recursive_directory_iterator(root))
+      n += e.path().filename().string().rfind('.', 0) == 0;
+    return n;
+  }
+  fs::path dir;
+};
+
+TEST_F(DetectCommand, FolderRunWritesMirroredOutputsAndReportsTheBrokenImage) {
+  const fs::path out = dir / "out";
+  CommandRun r = mbest("detect " + (dir / "data").string() + " --out " + out.string() + " --overlay --timings " +
+                (out / "timings.json").string());
+  EXPECT_EQ(r.code, 1) << r.output;  // one image failed
+  EXPECT_NE(r.output.find("broken.jpg"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[2/2]"), std::string::npos) << "progress line: " << r.output;
+
+  const fs::path stem = out / "a/images/good";
+  ASSERT_TRUE(fs::exists(stem.string() + ".labels.png"));
+  ASSERT_TRUE(fs::exists(stem.string() + ".overlay.png"));
+  EXPECT_FALSE(fs::exists(out / "a/images/broken.labels.png"));
+  const cv::Mat labels = cv::imread(stem.string() + ".labels.png", cv::IMREAD_UNCHANGED);
+  EXPECT_EQ(labels.type(), CV_16UC1);
+  EXPECT_GT(cv::countNonZero(labels == 1), 1500);
+
+  std::ifstream js(stem.string() + ".json");
+  const nlohmann::json j = nlohmann::json::parse(js);
+  ASSERT_EQ(j["dlos"].size(), 1u);
+  EXPECT_GT(j["dlos"][0]["centerline"].size(), 150u);
+  EXPECT_EQ(j["dlos"][0]["centerline"].size(), j["dlos"][0]["radius"].size());
+
+  std::ifstream ts(out / "timings.json");
+  const nlohmann::json t = nlohmann::json::parse(ts);
+  ASSERT_EQ(t["images"].size(), 1u);
+  EXPECT_EQ(t["images"][0]["path"], "a/images/good.png");
+  EXPECT_TRUE(t["median_stages_ms"].contains("skeleton"));
+  EXPECT_GT(t["median_total_ms"].get<double>(), 0);
+  EXPECT_EQ(hidden_files(out), 0) << "temporary files left behind";
+}
+
+TEST_F(DetectCommand, MaskOfAnotherSizeIsRejectedWithBothSizes) {
+  cv::imwrite((dir / "mask.png").string(), cv::Mat::zeros(50, 50, CV_8UC1));
+  CommandRun r = mbest("detect " + (dir / "data/a/images/good.png").string() + " --mask " + (dir / "mask.png").string() +
+                " --out " + (dir / "out").string());
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("50x50"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("200x120"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out/good.labels.png"));
+}
+
+TEST_F(DetectCommand, EmptyMaskGivesValidEmptyOutputs) {
+  cv::imwrite((dir / "mask.png").string(), cv::Mat::zeros(120, 200, CV_8UC1));
+  CommandRun r = mbest("detect " + (dir / "data/a/images/good.png").string() + " --mask " + (dir / "mask.png").string() +
+                " --out " + (dir / "out").string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  const cv::Mat labels = cv::imread((dir / "out/good.labels.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(labels.empty());
+  EXPECT_EQ(cv::countNonZero(labels), 0);
+  std::ifstream js(dir / "out/good.json");
+  EXPECT_TRUE(nlohmann::json::parse(js)["dlos"].empty());
+}
+
+TEST_F(DetectCommand, UnwritableOutputFolderIsAClearError) {
+  std::ofstream(dir / "file") << "x";
+  CommandRun r = mbest("detect " + (dir / "data/a/images/good.png").string() + " --out " + (dir / "file/sub").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("file/sub"), std::string::npos) << r.output;
+}
+
+TEST_F(DetectCommand, MissingInputAndMissingArgument) {
+  CommandRun missing = mbest("detect " + (dir / "nothing.png").string());
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.output.find("no such file"), std::string::npos) << missing.output;
+  CommandRun no_args = mbest("detect");
+  EXPECT_NE(no_args.code, 0);
+  EXPECT_NE(no_args.output.find("INPUT"), std::string::npos) << no_args.output;
+}
+
+}  // namespace

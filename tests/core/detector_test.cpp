@@ -1,0 +1,230 @@
+// End-to-end: drawn scenes through the whole pipeline, and bad input.
+#include "mbest/core/detector.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "scenes.h"
+
+namespace mbest {
+namespace {
+
+// Draws each rod into its own mask and into the union; returns the union.
+cv::Mat scene(cv::Size size, const std::vector<std::vector<cv::Point>>& rods, int width,
+              std::vector<cv::Mat>* instances = nullptr) {
+  cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
+  for (const auto& rod : rods) {
+    cv::Mat m = cv::Mat::zeros(size, CV_8UC1);
+    test::draw_rod(m, rod, width);
+    mask |= m;
+    if (instances) instances->push_back(m);
+  }
+  return mask;
+}
+
+void expect_labels_cover_mask(const Detection& d, const cv::Mat& mask) {
+  const cv::Mat labelled = d.labels != 0, in_mask = mask != 0;
+  EXPECT_EQ(cv::countNonZero(labelled & ~in_mask), 0) << "labels outside the mask";
+  EXPECT_EQ(cv::countNonZero(in_mask & ~labelled), 0) << "mask pixels without a label";
+}
+
+TEST(Detector, StraightRodIsOneOpenDloEndToEnd) {
+  const cv::Mat mask = scene({300, 120}, {{{20, 60}, {280, 60}}}, 15);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const Detection& d = r.value();
+  ASSERT_EQ(d.dlos.size(), 1u);
+  const Dlo& dlo = d.dlos[0];
+  EXPECT_FALSE(dlo.closed);
+  EXPECT_TRUE(test::eight_connected_chain(dlo.centerline));
+  EXPECT_EQ(dlo.radius.size(), dlo.centerline.size());
+  EXPECT_LE(std::min(dlo.centerline.front().x, dlo.centerline.back().x), 30);
+  EXPECT_GE(std::max(dlo.centerline.front().x, dlo.centerline.back().x), 270);
+  // Radius = distance to the nearest background pixel; a thickness-15 line is 17 px wide.
+  EXPECT_NEAR(dlo.radius[dlo.radius.size() / 2], (15 + 3) / 2.0, 0.5);
+  expect_labels_cover_mask(d, mask);
+  EXPECT_FALSE(d.timings.empty());
+}
+
+TEST(Detector, XCrossingIsTwoDlosAndOneCrossing) {
+  for (double angle : {90.0, 50.0, 25.0}) {
+    std::vector<cv::Mat> gt;
+    const cv::Mat mask = scene({400, 400},
+                               {test::line_through({200, 200}, 10, 360),
+                                test::line_through({200, 200}, 10 + angle, 360)},
+                               13, &gt);
+    auto r = detect(mask);
+    ASSERT_TRUE(r.ok());
+    const Detection& d = r.value();
+    ASSERT_EQ(d.dlos.size(), 2u) << "angle " << angle;
+    ASSERT_EQ(d.crossings.size(), 1u) << "angle " << angle;
+    EXPECT_NEAR(d.crossings[0].angle_deg, angle > 90 ? 180 - angle : angle, 4.0);
+    EXPECT_LT(cv::norm(d.crossings[0].location - cv::Point2f(200, 200)), 4.0);
+    for (const Dlo& dlo : d.dlos) EXPECT_EQ(dlo.crossings, std::vector<int>{0});
+    EXPECT_GT(test::strict_dice(gt, d.labels), 0.97) << "angle " << angle;
+    expect_labels_cover_mask(d, mask);
+  }
+}
+
+TEST(Detector, NearParallelCrossingFromTwoYs) {
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({600, 300},
+                             {test::line_through({300, 150}, 0, 560),
+                              test::line_through({300, 150}, 14, 560)},
+                             15, &gt);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.value().dlos.size(), 2u);
+  EXPECT_EQ(r.value().crossings.size(), 1u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
+}
+
+TEST(Detector, SelfLoopIsOneDloCrossingItself) {
+  // A rod that comes from the left, loops once and leaves to the right.
+  std::vector<cv::Point> rod{{20, 200}, {150, 200}};
+  const std::vector<cv::Point> loop = test::arc({200, 150}, 55, M_PI * 0.75, M_PI * 0.75 - 2 * M_PI * 0.95, 120);
+  rod.insert(rod.end(), loop.begin(), loop.end());
+  rod.push_back({380, 60});
+  cv::Mat mask = cv::Mat::zeros(320, 400, CV_8UC1);
+  test::draw_rod(mask, rod, 13);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  const Detection& d = r.value();
+  ASSERT_EQ(d.dlos.size(), 1u);
+  ASSERT_EQ(d.crossings.size(), 1u);
+  EXPECT_EQ(d.crossings[0].dlos, (std::vector<int>{0, 0}));
+  EXPECT_EQ(d.dlos[0].crossings, (std::vector<int>{0, 0}));
+  expect_labels_cover_mask(d, mask);
+}
+
+TEST(Detector, RingIsOneClosedDlo) {
+  cv::Mat mask = cv::Mat::zeros(300, 300, CV_8UC1);
+  cv::circle(mask, {150, 150}, 98, 255, -1);  // a thick cv::circle has pinholes: cut the hole
+  cv::circle(mask, {150, 150}, 82, 0, -1);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.value().dlos.size(), 1u);
+  const Dlo& ring = r.value().dlos[0];
+  EXPECT_TRUE(ring.closed);
+  EXPECT_TRUE(test::eight_connected_chain(ring.centerline));
+  EXPECT_LE(std::abs(ring.centerline.front().x - ring.centerline.back().x), 1);
+  EXPECT_LE(std::abs(ring.centerline.front().y - ring.centerline.back().y), 1);
+  expect_labels_cover_mask(r.value(), mask);
+}
+
+TEST(Detector, RingCrossedByARod) {
+  cv::Mat mask = cv::Mat::zeros(300, 400, CV_8UC1);
+  cv::circle(mask, {200, 150}, 90, 255, 13);
+  test::draw_rod(mask, {{10, 150}, {390, 150}}, 13);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.value().dlos.size(), 2u);
+  int closed = 0;
+  for (const Dlo& d : r.value().dlos) closed += d.closed;
+  EXPECT_EQ(closed, 1);
+  EXPECT_EQ(r.value().crossings.size(), 2u);
+}
+
+TEST(Detector, ThreeRodsThroughOnePoint) {
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({400, 400},
+                             {test::line_through({200, 200}, 0, 360), test::line_through({200, 200}, 60, 360),
+                              test::line_through({200, 200}, 120, 360)},
+                             13, &gt);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  const Detection& d = r.value();
+  ASSERT_EQ(d.dlos.size(), 3u);
+  ASSERT_EQ(d.crossings.size(), 1u);
+  EXPECT_EQ(d.crossings[0].dlos.size(), 3u);
+  // Each DLO runs straight: its ends are on opposite sides of the centre.
+  for (const Dlo& dlo : d.dlos) {
+    const cv::Point2f a(dlo.centerline.front()), b(dlo.centerline.back()), c(200, 200);
+    EXPECT_LT((a - c).dot(b - c), 0);
+    EXPECT_GT(cv::norm(a - b), 300);
+  }
+  EXPECT_GT(test::strict_dice(gt, d.labels), 0.9);
+}
+
+TEST(Detector, RodsLeavingTheImageAndCrossingNearTheBorder) {
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({200, 200}, {{{-20, 22}, {220, 22}}, {{24, -20}, {24, 220}}}, 13, &gt);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 2u);
+  EXPECT_EQ(r.value().crossings.size(), 1u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
+  expect_labels_cover_mask(r.value(), mask);
+}
+
+TEST(Detector, CrossingInTheCornerDoesNotCrash) {
+  // Two rods crossing where both leave the image: an L-shaped blob, ambiguous by nature.
+  const cv::Mat mask = scene({200, 200}, {{{-20, 8}, {220, 8}}, {{5, -20}, {5, 220}}}, 13);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  EXPECT_GE(r.value().dlos.size(), 1u);
+  expect_labels_cover_mask(r.value(), mask);
+}
+
+TEST(Detector, SplitEndsDoNotMakeExtraDlos) {
+  cv::Mat mask = cv::Mat::zeros(120, 400, CV_8UC1);
+  test::draw_rod(mask, {{20, 60}, {380, 60}}, 17);
+  for (int x = 40; x < 360; x += 37) cv::circle(mask, {x, 68}, 4, 255, -1);  // a jagged edge
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 1u);
+}
+
+TEST(Detector, EmptyMaskGivesNoDlosAndEmptyLabels) {
+  auto r = detect(cv::Mat::zeros(50, 80, CV_8UC1));
+  ASSERT_TRUE(r.ok());
+  EXPECT_TRUE(r.value().dlos.empty());
+  EXPECT_EQ(r.value().labels.size(), cv::Size(80, 50));
+  EXPECT_EQ(r.value().labels.type(), CV_16UC1);
+  EXPECT_EQ(cv::countNonZero(r.value().labels), 0);
+}
+
+TEST(Detector, FullAndTinyMasksDoNotCrash) {
+  for (cv::Size s : {cv::Size(80, 50), cv::Size(1, 1), cv::Size(1, 40), cv::Size(40, 1), cv::Size(2, 2)}) {
+    cv::Mat full(s, CV_8UC1, cv::Scalar(255));
+    auto r = detect(full);
+    ASSERT_TRUE(r.ok()) << s;
+    EXPECT_EQ(r.value().labels.size(), s);
+    for (const Dlo& d : r.value().dlos) EXPECT_EQ(d.radius.size(), d.centerline.size());
+  }
+}
+
+TEST(Detector, NonBinaryMaskIsTreatedAsBinary) {
+  cv::Mat a = scene({300, 120}, {{{20, 60}, {280, 60}}}, 15);
+  cv::Mat b = a.clone();
+  b.setTo(7, a > 0);
+  b(cv::Rect(0, 0, 150, 120)).setTo(200, a(cv::Rect(0, 0, 150, 120)) > 0);
+  auto ra = detect(a), rb = detect(b);
+  ASSERT_TRUE(ra.ok() && rb.ok());
+  EXPECT_EQ(cv::countNonZero(ra.value().labels != rb.value().labels), 0);
+}
+
+TEST(Detector, BadInputIsAnErrorNamingTheProblem) {
+  auto empty = detect(cv::Mat());
+  ASSERT_FALSE(empty.ok());
+  EXPECT_NE(empty.error().message.find("empty"), std::string::npos);
+
+  auto wrong_type = detect(cv::Mat::zeros(10, 10, CV_32FC1));
+  ASSERT_FALSE(wrong_type.ok());
+  EXPECT_NE(wrong_type.error().message.find("CV_8UC1"), std::string::npos);
+
+  auto wrong_size = detect(cv::Mat::zeros(10, 10, CV_8UC1), cv::Mat::zeros(12, 10, CV_8UC3));
+  ASSERT_FALSE(wrong_size.ok());
+  EXPECT_NE(wrong_size.error().message.find("10x12"), std::string::npos);
+
+  auto gray_image = detect(cv::Mat::zeros(10, 10, CV_8UC1), cv::Mat::zeros(10, 10, CV_8UC1));
+  ASSERT_FALSE(gray_image.ok());
+  EXPECT_NE(gray_image.error().message.find("CV_8UC3"), std::string::npos);
+
+  DetectorConfig bad;
+  bad.fit_radii = 0;
+  EXPECT_FALSE(detect(cv::Mat::zeros(10, 10, CV_8UC1), cv::Mat(), bad).ok());
+}
+
+}  // namespace
+}  // namespace mbest

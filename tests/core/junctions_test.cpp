@@ -1,0 +1,50 @@
+#include "mbest/core/junctions.h"
+
+#include <gtest/gtest.h>
+
+#include "mbest/core/prune.h"
+#include "scenes.h"
+
+namespace mbest {
+namespace {
+
+std::vector<CrossingRegion> regions_of(const cv::Mat& mask) {
+  Skeleton s = skeletonize(mask);
+  SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
+  const float r = measure_radii(g, mask);
+  prune_split_ends(g, 2 * r, mask.size());
+  return group_junctions(g, r, 10 * r, 30 * r);
+}
+
+TEST(Junctions, NearParallelCrossingTwoYsBecomeOneCrossing) {
+  for (double angle : {12.0, 18.0, 30.0}) {
+    cv::Mat mask = cv::Mat::zeros(300, 500, CV_8UC1);
+    test::draw_rod(mask, test::line_through({250, 150}, 0, 460), 15);
+    test::draw_rod(mask, test::line_through({250, 150}, angle, 460), 15);
+    auto regions = regions_of(mask);
+    ASSERT_EQ(regions.size(), 1u) << "angle " << angle;
+    EXPECT_EQ(regions[0].exits.size(), 4u);
+  }
+}
+
+TEST(Junctions, TwoSeparateTeesAreNotPaired) {
+  // Two rods end on a third, 150 px apart: two Ys joined by a branch as wide as one rod.
+  cv::Mat mask = cv::Mat::zeros(200, 400, CV_8UC1);
+  test::draw_rod(mask, {{20, 100}, {380, 100}}, 13);
+  test::draw_rod(mask, {{125, 100}, {125, 20}}, 13);
+  test::draw_rod(mask, {{275, 100}, {275, 180}}, 13);
+  auto regions = regions_of(mask);
+  ASSERT_EQ(regions.size(), 2u);
+  for (const auto& r : regions) EXPECT_EQ(r.exits.size(), 3u);
+}
+
+TEST(Junctions, ThreeRodsThroughOnePointAreOneCrossingOfSixExits) {
+  cv::Mat mask = cv::Mat::zeros(300, 300, CV_8UC1);
+  for (double a : {0.0, 60.0, 120.0}) test::draw_rod(mask, test::line_through({150, 150}, a, 260), 13);
+  auto regions = regions_of(mask);
+  ASSERT_EQ(regions.size(), 1u);
+  EXPECT_EQ(regions[0].exits.size(), 6u);
+}
+
+}  // namespace
+}  // namespace mbest

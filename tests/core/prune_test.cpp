@@ -1,0 +1,51 @@
+#include "mbest/core/prune.h"
+
+#include <gtest/gtest.h>
+
+#include "scenes.h"
+
+namespace mbest {
+namespace {
+
+TEST(Prune, BumpOnTheSideOfARodIsASplitEnd) {
+  cv::Mat mask = cv::Mat::zeros(100, 300, CV_8UC1);
+  test::draw_rod(mask, {{20, 50}, {280, 50}}, 15);
+  cv::rectangle(mask, {140, 38}, {150, 57}, 255, -1);  // a jagged bump
+  cv::rectangle(mask, {143, 34}, {147, 40}, 255, -1);
+  Skeleton s = skeletonize(mask);
+  SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
+  const float r = measure_radii(g, mask);
+  int spurs_before = 0;
+  for (const Branch& b : g.branches) spurs_before += b.length < 2 * r;
+  ASSERT_GE(spurs_before, 1) << "the bump should make a spur";
+  EXPECT_GE(prune_split_ends(g, 2 * r, mask.size()), 1);
+  for (const Branch& b : g.branches)
+    if (b.alive) EXPECT_GE(b.length, 2 * r);
+}
+
+TEST(Prune, ShortIsolatedPieceAndLongBranchesStay) {
+  cv::Mat mask = cv::Mat::zeros(100, 300, CV_8UC1);
+  test::draw_rod(mask, {{20, 30}, {280, 30}}, 11);
+  test::draw_rod(mask, {{100, 75}, {108, 75}}, 11);
+  Skeleton s = skeletonize(mask);
+  SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
+  const float r = measure_radii(g, mask);
+  EXPECT_EQ(prune_split_ends(g, 2 * r, mask.size()), 0);
+}
+
+TEST(Prune, ForkedEndKeepsItsLongerSpur) {
+  // A rod whose end splits into two short prongs: one goes, one stays as the end.
+  cv::Mat mask = cv::Mat::zeros(100, 300, CV_8UC1);
+  test::draw_rod(mask, {{60, 50}, {280, 50}}, 15);
+  cv::rectangle(mask, {30, 38}, {62, 62}, 255, -1);
+  Skeleton s = skeletonize(mask);
+  SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
+  const float r = measure_radii(g, mask);
+  prune_split_ends(g, 2 * r, mask.size());
+  int ends = 0;
+  for (const Node& n : g.nodes) ends += n.kind == Node::Kind::end && n.alive;
+  EXPECT_EQ(ends, 2);
+}
+
+}  // namespace
+}  // namespace mbest
