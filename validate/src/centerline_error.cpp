@@ -5,7 +5,6 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
-#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -91,13 +90,11 @@ std::vector<double> distances_to_polyline(const std::vector<cv::Point2d>& from,
 CenterlineDistances centerline_distances(const synth::SceneAnnotation& scene,
                                          const std::vector<Polyline>& predicted,
                                          const DiceScore& dice) {
-  std::map<int, int> matched;  // rod id -> matched predicted label
-  for (size_t i = 0; i < dice.gt_ids.size(); ++i) matched[dice.gt_ids[i]] = dice.matched_pred[i];
   CenterlineDistances out;
   for (const synth::RodAnnotation& rod : scene.rods) {
-    const auto it = matched.find(rod.id);
-    if (it == matched.end() || it->second <= 0) continue;
-    const size_t dlo = static_cast<size_t>(it->second - 1);
+    const int i = dice.instance_of(rod.id);
+    if (i < 0 || dice.matched_pred[i] <= 0) continue;
+    const size_t dlo = static_cast<size_t>(dice.matched_pred[i] - 1);
     if (dlo >= predicted.size() || predicted[dlo].points.empty() || rod.centerline.empty())
       continue;
     const std::vector<double> p2g =

@@ -12,13 +12,6 @@ namespace {
 
 using synth::RodAnnotation;
 
-cv::Mat as_16u(const cv::Mat& labels) {
-  if (labels.type() == CV_16UC1) return labels;
-  cv::Mat out;
-  labels.convertTo(out, CV_16U);
-  return out;
-}
-
 int label_at(const cv::Mat& labels16, cv::Point p) {
   if (p.x < 0 || p.y < 0 || p.x >= labels16.cols || p.y >= labels16.rows) return 0;
   return labels16.at<uint16_t>(p);
@@ -109,11 +102,9 @@ std::vector<CrossingResolution> crossing_resolution(const synth::SceneAnnotation
                                                     const cv::Mat& pred_labels,
                                                     const DiceScore& dice,
                                                     const CrossingOptions& options) {
-  const cv::Mat gt16 = as_16u(gt_labels), pred16 = as_16u(pred_labels);
+  const cv::Mat gt16 = labels_16u(gt_labels), pred16 = labels_16u(pred_labels);
   std::map<int, const RodAnnotation*> rods;
   for (const RodAnnotation& r : scene.rods) rods[r.id] = &r;
-  std::map<int, int> matched;  // rod id -> matched predicted label
-  for (size_t i = 0; i < dice.gt_ids.size(); ++i) matched[dice.gt_ids[i]] = dice.matched_pred[i];
 
   std::vector<CrossingResolution> out;
   for (size_t k = 0; k < scene.crossings.size(); ++k) {
@@ -170,7 +161,8 @@ std::vector<CrossingResolution> crossing_resolution(const synth::SceneAnnotation
       if (r.note.empty()) r.note = "self-crossing: order not assessed from a label image";
     } else {
       r.order_assessed = true;
-      const int top_label = matched.count(c.top) ? matched[c.top] : 0;
+      const int top = dice.instance_of(c.top);
+      const int top_label = top < 0 ? 0 : dice.matched_pred[top];
       r.order_correct = top_label != 0 && r.at_crossing == top_label;
     }
     out.push_back(r);

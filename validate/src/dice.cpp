@@ -18,13 +18,6 @@ Status check_labels(const cv::Mat& labels, const char* name) {
   return ok_status();
 }
 
-cv::Mat as_16u(const cv::Mat& labels) {
-  if (labels.type() == CV_16UC1) return labels;
-  cv::Mat out;
-  labels.convertTo(out, CV_16U);
-  return out;
-}
-
 // index[v] = position of label v in `values`, -1 for values not present (and for 0).
 std::vector<int> index_of_values(const std::vector<int>& values) {
   std::vector<int> index(65536, -1);
@@ -69,8 +62,20 @@ DiceScore score_from_overlaps(std::vector<int> gt_ids, std::vector<int> pred_ids
 
 }  // namespace
 
+int DiceScore::instance_of(int gt_id) const {
+  const auto it = std::find(gt_ids.begin(), gt_ids.end(), gt_id);
+  return it == gt_ids.end() ? -1 : static_cast<int>(it - gt_ids.begin());
+}
+
+cv::Mat labels_16u(const cv::Mat& labels) {
+  if (labels.type() == CV_16UC1) return labels;
+  cv::Mat out;
+  labels.convertTo(out, CV_16U);
+  return out;
+}
+
 std::vector<int> label_values(const cv::Mat& labels) {
-  const cv::Mat l16 = as_16u(labels);
+  const cv::Mat l16 = labels_16u(labels);
   std::vector<bool> present(65536, false);
   for (int y = 0; y < l16.rows; ++y) {
     const uint16_t* row = l16.ptr<uint16_t>(y);
@@ -89,7 +94,7 @@ Result<DiceScore> matched_dice(const cv::Mat& gt_labels, const cv::Mat& pred_lab
     return Error{"predicted labels: size " + std::to_string(pred_labels.cols) + "x" +
                  std::to_string(pred_labels.rows) + " differs from the ground truth's " +
                  std::to_string(gt_labels.cols) + "x" + std::to_string(gt_labels.rows)};
-  const cv::Mat g = as_16u(gt_labels), p = as_16u(pred_labels);
+  const cv::Mat g = labels_16u(gt_labels), p = labels_16u(pred_labels);
   std::vector<int> gt_ids = label_values(g), pred_ids = label_values(p);
   const std::vector<int> gi = index_of_values(gt_ids), pj = index_of_values(pred_ids);
   const size_t n = gt_ids.size(), m = pred_ids.size();
@@ -116,7 +121,7 @@ Result<DiceScore> matched_dice(const std::vector<cv::Mat>& gt_masks, const cv::M
     if (gt_masks[i].size() != pred_labels.size())
       return Error{name + ": size differs from the predicted labels'"};
   }
-  const cv::Mat p = as_16u(pred_labels);
+  const cv::Mat p = labels_16u(pred_labels);
   std::vector<int> pred_ids = label_values(p);
   const std::vector<int> pj = index_of_values(pred_ids);
   const size_t n = gt_masks.size(), m = pred_ids.size();

@@ -161,8 +161,7 @@ ImageResult score_image(const DatasetItem& item, const cv::Mat& gt_labels,
     rr.id = rod.id;
     rr.width_px = rod.width_px;
     rr.complexity = rod.complexity.total_turning_rad;
-    for (size_t i = 0; i < r.dice.gt_ids.size(); ++i) {
-      if (r.dice.gt_ids[i] != rod.id) continue;
+    if (const int i = r.dice.instance_of(rod.id); i >= 0) {
       rr.matched_pred = r.dice.matched_pred[i];
       rr.dice = r.dice.matched_dice[i];
     }

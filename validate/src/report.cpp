@@ -312,9 +312,7 @@ const cv::Vec3b kUnmatched(255, 0, 255), kMissed(40, 40, 230), kWrong(0, 200, 25
 // Three panels: ground truth, prediction (each predicted instance in the colour of the GT
 // instance matched to it; magenta when unmatched), and the disagreement.
 cv::Mat overlay(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat& pred_in) {
-  cv::Mat gt, pred;
-  gt_in.convertTo(gt, CV_16U);
-  pred_in.convertTo(pred, CV_16U);
+  const cv::Mat gt = labels_16u(gt_in), pred = labels_16u(pred_in);
   cv::Mat image = cv::imread(r.item.image, cv::IMREAD_COLOR);
   if (image.size() != gt.size()) image = cv::Mat(gt.size(), CV_8UC3, cv::Scalar(60, 60, 60));
   cv::Mat base = image * 0.45;

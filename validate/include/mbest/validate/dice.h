@@ -24,7 +24,12 @@ struct DiceScore {
   std::vector<int> matched_pred;
   std::vector<double> matched_dice;  // #n: D of that match, 0 when unmatched
   bool count_error() const { return n != m; }
+  // Index of the GT instance whose id is `gt_id`, -1 when there is none.
+  int instance_of(int gt_id) const;
 };
+
+// A CV_8UC1 or CV_16UC1 label image as CV_16UC1 (the same data when it already is).
+cv::Mat labels_16u(const cv::Mat& labels);
 
 // gt_labels, pred_labels: CV_8UC1 or CV_16UC1, same size; 0 = background, every other value
 // one instance. Errors name the argument and the offending type or size.
