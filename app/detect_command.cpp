@@ -97,7 +97,7 @@ double median(std::vector<double> v) {
 }
 
 struct Options {
-  std::string input, mask, out = "mbest-out", timings;
+  std::string input, mask, mask_sibling, out = "mbest-out", timings;
   bool overlay = false, quiet = false;
 };
 
@@ -106,7 +106,12 @@ Result<nlohmann::json> process(const Input& in, const Options& o, bool mask_is_f
   Result<cv::Mat> image = read_image(in.path.string());
   if (!image) return image.error();
   cv::Mat mask;
-  if (o.mask.empty()) {
+  if (!o.mask_sibling.empty()) {
+    const fs::path mp = in.path.parent_path().parent_path() / o.mask_sibling / (in.path.stem().string() + ".png");
+    Result<cv::Mat> m = read_mask(mp.string(), image.value().size());
+    if (!m) return m.error();
+    mask = std::move(m).value();
+  } else if (o.mask.empty()) {
     Result<cv::Mat> m = colour_filter(image.value());
     if (!m) return m.error();
     mask = std::move(m).value();
@@ -222,6 +227,10 @@ void add_detect_command(CLI::App& app, int* exit_code) {
                   "Mask file (non-zero = DLO) for a single image, or a folder mirroring INPUT "
                   "(the mask of INPUT/a/images/x.jpg is MASK/a/images/x.png). Default: the "
                   "built-in HSV colour filter (coloured DLOs on a dark background)");
+  cmd->add_option("--mask-sibling", opts->mask_sibling,
+                  "Take each mask from a sibling folder of the image's: the mask of "
+                  "a/images/x.jpg is a/NAME/x.png (e.g. `semantic` in `mbest synth` output)")
+      ->excludes("--mask");
   cmd->add_option("--out", opts->out, "Output folder (created if missing)")->capture_default_str();
   cmd->add_flag("--overlay", opts->overlay, "Also write <stem>.overlay.png for a person to check");
   cmd->add_option("--timings", opts->timings,
