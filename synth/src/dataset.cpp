@@ -16,7 +16,7 @@
 
 namespace mbest::synth {
 
-const char* const kGeneratorVersion = "0.1.0";
+const char* const kGeneratorVersion = "0.2.0";
 
 namespace {
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include <cairo.h>
 #include <opencv2/imgproc.hpp>
@@ -10,6 +12,33 @@
 
 namespace mbest::synth {
 namespace {
+
+// Per-thread scratch memory reused from scene to scene: the per-rod buffers are as large
+// as a rod's bounding box (often most of the frame), and allocating them afresh for every
+// scene cost more in page faults than the work done in them. A Mat returned by scratch()
+// views the slot's memory and stays valid until the same slot is requested again.
+class Scratch {
+ public:
+  cv::Mat get(size_t slot, cv::Size size, int type) {
+    if (slot >= slots_.size()) slots_.resize(slot + 1);
+    std::vector<uchar>& bytes = slots_[slot];
+    const size_t need = static_cast<size_t>(size.area()) * CV_ELEM_SIZE(type) + 64;
+    if (bytes.size() < need) bytes.resize(need);
+    return cv::Mat(size, type, bytes.data());
+  }
+
+ private:
+  std::vector<std::vector<uchar>> slots_;
+};
+
+Scratch& scratch() {
+  thread_local Scratch s;
+  return s;
+}
+
+// Slots of scratch(): fixed ones, then three per rod.
+enum : size_t { kDist, kAlong, kArc, kPatchColour, kLayerCoverage0 };
+size_t rod_slot(int rod, int k) { return 1000 + 3 * static_cast<size_t>(rod) + k; }
 
 // A piece of one rod painted in one go: the whole rod (its base layer) or, at a crossing,
 // the stretch of the strand that must be on top, painted again above.
@@ -27,7 +56,7 @@ cv::Point2d point_at(const SceneRod& rod, int i) {
 }
 
 // Cairo coverage of the stroked piece, over its bounding box in the image.
-void rasterise(Layer& layer, const SceneRod& rod, const cv::Rect& image) {
+void rasterise(Layer& layer, const SceneRod& rod, const cv::Rect& image, size_t slot) {
   double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
   for (int i = layer.from; i <= layer.to; ++i) {
     const cv::Point2d p = point_at(rod, i);
@@ -40,7 +69,8 @@ void rasterise(Layer& layer, const SceneRod& rod, const cv::Rect& image) {
   layer.box = box & image;
   if (layer.box.empty()) return;
   const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_A8, layer.box.width);
-  cv::Mat buffer(layer.box.height, stride, CV_8UC1, cv::Scalar(0));
+  cv::Mat buffer = scratch().get(slot, cv::Size(stride, layer.box.height), CV_8UC1);
+  buffer.setTo(0);
   cairo_surface_t* surface = cairo_image_surface_create_for_data(
       buffer.data, CAIRO_FORMAT_A8, layer.box.width, layer.box.height, stride);
   cairo_t* cr = cairo_create(surface);
@@ -68,15 +98,17 @@ struct Light {
   double shading, glare;
 };
 
-// The colour of a rod's piece at each covered pixel of its box (BGR floats, 0..255):
-// a lit cylinder (darker rims, lighter core) with a specular streak whose strength
-// varies along the rod.
+// The colour of a rod's piece at each covered pixel of its box (BGR floats, 0..255; 0
+// where the piece does not cover the pixel): a lit cylinder (darker rims, lighter core)
+// with a specular streak whose strength varies along the rod. Only the band of pixels the
+// piece covers is shaded; `colour` must be CV_32FC3 over layer.box.
 void shade(const Layer& layer, const SceneRod& rod, const Light& light, double glare_phase,
-           cv::Mat* colour /* CV_32FC3 over layer.box */) {
+           cv::Mat colour) {
   const cv::Rect& box = layer.box;
-  cv::Mat dist(box.size(), CV_32F, cv::Scalar(1e9f));
-  cv::Mat along(box.size(), CV_32FC3);  // (signed offset, normal x, normal y)
-  cv::Mat arc(box.size(), CV_32F, cv::Scalar(0));
+  cv::Mat dist = scratch().get(kDist, box.size(), CV_32F);
+  cv::Mat along = scratch().get(kAlong, box.size(), CV_32FC3);  // (signed offset, normal x, normal y)
+  cv::Mat arc = scratch().get(kArc, box.size(), CV_32F);
+  dist.setTo(1e9f);
   const double half = rod.width / 2;
   constexpr int kStep = 3;  // distances to a 3 px polyline: well under a pixel of error
   for (int i = layer.from; i < layer.to; i += kStep) {
@@ -86,48 +118,72 @@ void shade(const Layer& layer, const SceneRod& rod, const Light& light, double g
     const double len2 = d.dot(d);
     if (len2 < 1e-12) continue;
     const double len = std::sqrt(len2);
-    const cv::Point2d n(-d.y / len, d.x / len);
+    const float nx = static_cast<float>(-d.y / len), ny = static_cast<float>(d.x / len);
+    const float dx = static_cast<float>(d.x), dy = static_cast<float>(d.y);
+    const float inv_len2 = static_cast<float>(1 / len2);
     const int xa = std::max(box.x, static_cast<int>(std::floor(std::min(a.x, b.x) - half - 1)));
     const int xb = std::min(box.x + box.width - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + half + 1)));
     const int ya = std::max(box.y, static_cast<int>(std::floor(std::min(a.y, b.y) - half - 1)));
     const int yb = std::min(box.y + box.height - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + half + 1)));
+    const float s0 = static_cast<float>(i), ds = static_cast<float>(j - i);
     for (int y = ya; y <= yb; ++y) {
-      float* drow = dist.ptr<float>(y - box.y);
-      cv::Vec3f* arow = along.ptr<cv::Vec3f>(y - box.y);
-      float* srow = arc.ptr<float>(y - box.y);
+      const uchar* cov = layer.coverage.ptr<uchar>(y - box.y) - box.x;
+      float* drow = dist.ptr<float>(y - box.y) - box.x;
+      cv::Vec3f* arow = along.ptr<cv::Vec3f>(y - box.y) - box.x;
+      float* srow = arc.ptr<float>(y - box.y) - box.x;
+      const float py = static_cast<float>(y - a.y);
       for (int x = xa; x <= xb; ++x) {
-        const cv::Point2d p(x - a.x, y - a.y);
-        const double t = std::clamp(p.dot(d) / len2, 0.0, 1.0);
-        const cv::Point2d q = p - t * d;
-        const double dd = q.dot(q);
-        if (dd < drow[x - box.x]) {
-          drow[x - box.x] = static_cast<float>(dd);
-          arow[x - box.x] = cv::Vec3f(static_cast<float>(p.dot(n)), static_cast<float>(n.x), static_cast<float>(n.y));
-          srow[x - box.x] = static_cast<float>(i + t * (j - i));
+        if (!cov[x]) continue;  // only covered pixels are shaded
+        const float px = static_cast<float>(x - a.x);
+        const float t = std::clamp((px * dx + py * dy) * inv_len2, 0.f, 1.f);
+        const float qx = px - t * dx, qy = py - t * dy;
+        const float dd = qx * qx + qy * qy;
+        if (dd < drow[x]) {
+          drow[x] = dd;
+          arow[x] = cv::Vec3f(px * nx + py * ny, nx, ny);
+          srow[x] = s0 + t * ds;
         }
       }
     }
   }
-  *colour = cv::Mat(box.size(), CV_32FC3, cv::Scalar(0, 0, 0));
-  const cv::Vec3d base(rod.color_rgb[2], rod.color_rgb[1], rod.color_rgb[0]);
+  // The streak's strength along the arc, tabulated per centerline sample (it varies over
+  // tens of px) and interpolated linearly.
+  const int n_arc = layer.to - layer.from + 2;
+  std::vector<float> streak(static_cast<size_t>(n_arc) + 1);
+  for (int k = 0; k < n_arc + 1; ++k) {
+    const double s = layer.from + k;
+    streak[k] = static_cast<float>(std::max(0.0, std::sin(s / 57.0 + glare_phase) * 0.6 + std::sin(s / 23.0 + 2 * glare_phase) * 0.4));
+  }
+  const float base[3] = {static_cast<float>(rod.color_rgb[2]), static_cast<float>(rod.color_rgb[1]),
+                         static_cast<float>(rod.color_rgb[0])};
+  const float inv_half = static_cast<float>(1 / half);
+  const float lx = static_cast<float>(light.l[0]), ly = static_cast<float>(light.l[1]), lz = static_cast<float>(light.l[2]);
+  const float hx = static_cast<float>(light.h[0]), hy = static_cast<float>(light.h[1]), hz = static_cast<float>(light.h[2]);
+  const float shading = static_cast<float>(light.shading), glare = static_cast<float>(255 * light.glare);
   for (int y = 0; y < box.height; ++y) {
     const uchar* cov = layer.coverage.ptr<uchar>(y);
+    const float* drow = dist.ptr<float>(y);
     const cv::Vec3f* arow = along.ptr<cv::Vec3f>(y);
     const float* srow = arc.ptr<float>(y);
-    cv::Vec3f* out = colour->ptr<cv::Vec3f>(y);
+    cv::Vec3f* out = colour.ptr<cv::Vec3f>(y);
     for (int x = 0; x < box.width; ++x) {
-      if (!cov[x]) continue;
-      const double u = std::clamp(arow[x][0] / half, -1.0, 1.0);
-      const double w = std::sqrt(1 - u * u);
-      const cv::Vec3d normal(u * arow[x][1], u * arow[x][2], w);
-      const double diffuse = std::max(0.0, normal.dot(light.l));
-      double spec = std::max(0.0, normal.dot(light.h));
+      if (!cov[x] || drow[x] > 1e8f) {
+        out[x] = cv::Vec3f(0, 0, 0);
+        continue;
+      }
+      const float u = std::clamp(arow[x][0] * inv_half, -1.f, 1.f);
+      const float w = std::sqrt(1 - u * u);
+      const float n0 = u * arow[x][1], n1 = u * arow[x][2];
+      const float diffuse = std::max(0.f, n0 * lx + n1 * ly + w * lz);
+      float spec = std::max(0.f, n0 * hx + n1 * hy + w * hz);
       for (int k = 0; k < 5; ++k) spec *= spec;  // ^32: a narrow streak
-      const double s = srow[x];
-      const double streak = std::max(0.0, std::sin(s / 57.0 + glare_phase) * 0.6 + std::sin(s / 23.0 + 2 * glare_phase) * 0.4);
-      const double tone = 1 - light.shading + light.shading * (0.45 + 0.75 * diffuse);
-      const double g = 255 * light.glare * spec * (0.35 + 0.65 * streak);
-      for (int k = 0; k < 3; ++k) out[x][k] = static_cast<float>(std::min(255.0, base[k] * tone + g));
+      const float s = std::clamp(srow[x] - layer.from, 0.f, static_cast<float>(n_arc - 1));
+      const int si = static_cast<int>(s);
+      const float sf = s - si;
+      const float st = streak[si] + sf * (streak[si + 1] - streak[si]);
+      const float tone = 1 - shading + shading * (0.45f + 0.75f * diffuse);
+      const float g = glare * spec * (0.35f + 0.65f * st);
+      for (int k = 0; k < 3; ++k) out[x][k] = std::min(255.f, base[k] * tone + g);
     }
   }
 }
@@ -199,6 +255,39 @@ std::vector<Layer> plan_layers(const Scene& scene) {
   return layers;
 }
 
+// Quantiles of the standard normal at (i + 0.5) / 65536, i = 0..65535 (|z| < 4.2), by
+// Acklam's rational approximation (relative error < 1.2e-9), computed once.
+const std::vector<float>& normal_quantiles() {
+  static const std::vector<float> table = [] {
+    static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                               1.383577518672690e+02, -3.066479806614716e+01, 2.506628277459239e+00};
+    static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                               6.680131188771972e+01, -1.328068155288572e+01};
+    static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                               -2.549732539343734e+00, 4.374664141464968e+00, 2.938163982698783e+00};
+    static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                               3.754408661907416e+00};
+    std::vector<float> t(65536);
+    for (int i = 0; i < 65536; ++i) {
+      const double p = (i + 0.5) / 65536;
+      double z;
+      if (p < 0.02425 || p > 1 - 0.02425) {
+        const double r = std::sqrt(-2 * std::log(p < 0.5 ? p : 1 - p));
+        z = (((((c[0] * r + c[1]) * r + c[2]) * r + c[3]) * r + c[4]) * r + c[5]) /
+            ((((d[0] * r + d[1]) * r + d[2]) * r + d[3]) * r + 1);
+        if (p > 0.5) z = -z;
+      } else {
+        const double u = p - 0.5, r = u * u;
+        z = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * u /
+            (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
+      }
+      t[i] = static_cast<float>(z);
+    }
+    return t;
+  }();
+  return table;
+}
+
 void apply_camera(const CameraConfig& camera, Rng& rng, cv::Mat* image) {
   const double exposure = rng.uniform(camera.exposure.lo, camera.exposure.hi);
   const double blur = rng.uniform(camera.blur_sigma.lo, camera.blur_sigma.hi);
@@ -207,19 +296,21 @@ void apply_camera(const CameraConfig& camera, Rng& rng, cv::Mat* image) {
   if (std::abs(exposure - 1) > 1e-6) image->convertTo(*image, CV_8UC3, exposure);
   if (blur > 0.05) cv::GaussianBlur(*image, *image, cv::Size(0, 0), blur);
   if (noise > 0.05) {
-    // Approximately Gaussian (sum of four uniform bytes: mean 510, sd 147.8), from the
-    // generator's own stream: fast and identical everywhere.
+    // Gaussian, from the generator's own stream: each 16 bits of it index a table of the
+    // standard normal's quantiles, scaled and rounded once per scene, then added in
+    // integers. Fast and identical everywhere.
     Rng noise_rng(noise_seed);
-    const float scale = static_cast<float>(noise / 147.8);
+    const std::vector<float>& q = normal_quantiles();
+    std::vector<std::int16_t> offset(q.size());
+    for (size_t i = 0; i < q.size(); ++i) offset[i] = static_cast<std::int16_t>(std::lround(q[i] * noise));
     for (int y = 0; y < image->rows; ++y) {
       uchar* row = image->ptr<uchar>(y);
-      const int n = image->cols * 3;
-      for (int i = 0; i < n; i += 2) {
+      const int n = image->cols * image->channels();
+      for (int i = 0; i < n; i += 4) {
         const std::uint64_t bits = noise_rng.next();
-        for (int k = 0; k < 2 && i + k < n; ++k) {
-          const std::uint64_t b = bits >> (32 * k);
-          const int sum = static_cast<int>((b & 255) + ((b >> 8) & 255) + ((b >> 16) & 255) + ((b >> 24) & 255));
-          row[i + k] = cv::saturate_cast<uchar>(row[i + k] + (sum - 510) * scale);
+        const int k_end = std::min(4, n - i);
+        for (int k = 0; k < k_end; ++k) {
+          row[i + k] = static_cast<uchar>(std::clamp(row[i + k] + offset[(bits >> (16 * k)) & 0xffff], 0, 255));
         }
       }
     }
@@ -249,17 +340,21 @@ Result<RenderedScene> render_scene(const Scene& scene, const SynthConfig& config
   for (size_t k = 0; k < layers.size(); ++k) {
     Layer& layer = layers[k];
     const SceneRod& rod = scene.rods[layer.rod];
-    rasterise(layer, rod, image_rect);
+    rasterise(layer, rod, image_rect, layer.whole ? rod_slot(layer.rod, 0) : kLayerCoverage0);
     if (layer.box.empty()) continue;
-    cv::Mat colour;
-    shade(layer, rod, light, glare_phase[layer.rod], &colour);
+    cv::Mat colour = scratch().get(layer.whole ? rod_slot(layer.rod, 1) : kPatchColour, layer.box.size(), CV_32FC3);
+    shade(layer, rod, light, glare_phase[layer.rod], colour);
     RodBuffers& b = rods[layer.rod];
     if (layer.whole) {
       b.box = layer.box;
       b.coverage = layer.coverage;
       b.colour = colour;
-      b.depth = cv::Mat(layer.box.size(), CV_32S, cv::Scalar(-1));
-      b.depth.setTo(static_cast<int>(k), layer.coverage > 0);
+      b.depth = scratch().get(rod_slot(layer.rod, 2), layer.box.size(), CV_32S);
+      for (int y = 0; y < b.box.height; ++y) {
+        const uchar* cov = b.coverage.ptr<uchar>(y);
+        int* depth = b.depth.ptr<int>(y);
+        for (int x = 0; x < b.box.width; ++x) depth[x] = cov[x] ? static_cast<int>(k) : -1;
+      }
       continue;
     }
     // A patch lies inside its rod's box; paint it over the rod's own colour.
@@ -297,14 +392,25 @@ Result<RenderedScene> render_scene(const Scene& scene, const SynthConfig& config
         }
       }
     }
-    cv::GaussianBlur(mask, mask, cv::Size(0, 0), rng.uniform(2.5, 5) / kScale + 0.5);
+    const double sigma = rng.uniform(2.5, 5) / kScale + 0.5;
+    cv::GaussianBlur(mask, mask, cv::Size(0, 0), sigma);
     cv::Mat gain;
     mask.convertTo(gain, CV_8U, -255 * 0.6 * rc.shadow, 255);
     cv::resize(gain, gain, size, 0, 0, cv::INTER_LINEAR);
-    for (int y = 0; y < size.height; ++y) {
+    // The shadow can only darken near the rods: their boxes, shifted, widened by the blur
+    // kernel's reach (OpenCV's kernel is at most 8 sigma + 1 wide) and the upsampling.
+    cv::Rect reach;
+    const int margin = kScale * (static_cast<int>(std::ceil(4 * sigma)) + 3) + 8;
+    for (const RodBuffers& b : rods) {
+      if (b.box.empty()) continue;
+      const cv::Rect r(b.box.x - margin, b.box.y - margin, b.box.width + 2 * margin, b.box.height + 2 * margin);
+      reach = reach.empty() ? r : (reach | r);
+    }
+    reach &= image_rect;
+    for (int y = reach.y; y < reach.y + reach.height; ++y) {
       cv::Vec3b* row = picture.ptr<cv::Vec3b>(y);
       const uchar* g = gain.ptr<uchar>(y);
-      for (int x = 0; x < size.width; ++x) {
+      for (int x = reach.x; x < reach.x + reach.width; ++x) {
         if (g[x] == 255) continue;
         for (int k = 0; k < 3; ++k) row[x][k] = static_cast<uchar>((row[x][k] * g[x] + 127) / 255);
       }
@@ -375,7 +481,10 @@ Result<RenderedScene> render_scene(const Scene& scene, const SynthConfig& config
 
   for (int r = 0; r < n_rods; ++r) {
     cv::Mat m(size, CV_8UC1, cv::Scalar(0));
-    if (!rods[r].box.empty()) m(rods[r].box).setTo(255, rods[r].coverage >= 128);
+    if (!rods[r].box.empty()) {
+      cv::Mat roi = m(rods[r].box);
+      cv::compare(rods[r].coverage, 128, roi, cv::CMP_GE);
+    }
     out.amodal.push_back(m);
   }
 

@@ -15,8 +15,9 @@ constexpr double kHeadingWeight = 6.0;
 constexpr double kClosureWeight = 10.0;
 
 struct Residuals {
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J;
+  Eigen::VectorXd r;  // every residual: the M - 1 bending rows first
+  Eigen::MatrixXd J;  // the Jacobian of the rows after the bending rows only (pins, closure);
+                      // the bending rows' is constant and tridiagonal, used directly
 };
 
 // Variables: [x0, y0, phi_0 .. phi_{M-1}]. Node j (0..M) is x0 + h sum_{k<j} u(phi_k).
@@ -26,35 +27,38 @@ Residuals evaluate(const RodProblem& p, const Eigen::VectorXd& v) {
   const double sqrt_h = std::sqrt(h);
   int rows = m - 1 + (p.closed ? 3 : 0);
   for (const Pin& pin : p.pins) rows += (pin.has_position ? 2 : 0) + (pin.has_heading ? 1 : 0);
-  Residuals out{Eigen::VectorXd::Zero(rows), Eigen::MatrixXd::Zero(rows, m + 2)};
+  const int bend_rows = m - 1;
+  Residuals out{Eigen::VectorXd::Zero(rows), Eigen::MatrixXd::Zero(rows - bend_rows, m + 2)};
   int row = 0;
   for (int k = 0; k + 1 < m; ++k, ++row) {
     out.r(row) = (v(k + 3) - v(k + 2) - h * p.natural_curvature) / sqrt_h;
-    out.J(row, k + 3) = 1 / sqrt_h;
-    out.J(row, k + 2) = -1 / sqrt_h;
   }
+  // Jacobian rows are numbered from the first row after the bending rows.
+  auto J = [&](int r, int c) -> double& { return out.J(r - bend_rows, c); };
   // Prefix sums of the unit tangents give every node.
-  std::vector<double> cx(m + 1, 0.0), cy(m + 1, 0.0);
+  std::vector<double> cx(m + 1, 0.0), cy(m + 1, 0.0), cos_v(m), sin_v(m);
   for (int k = 0; k < m; ++k) {
-    cx[k + 1] = cx[k] + h * std::cos(v(k + 2));
-    cy[k + 1] = cy[k] + h * std::sin(v(k + 2));
+    cos_v[k] = std::cos(v(k + 2));
+    sin_v[k] = std::sin(v(k + 2));
+    cx[k + 1] = cx[k] + h * cos_v[k];
+    cy[k + 1] = cy[k] + h * sin_v[k];
   }
   for (const Pin& pin : p.pins) {
     // The pin's point on the segment polyline: segment j at fraction f.
     const int j = std::clamp(static_cast<int>(std::floor(pin.s / h)), 0, m - 1);
     const double f = std::clamp(pin.s / h - j, 0.0, 1.0);
     if (pin.has_position) {
-      const double cj = std::cos(v(j + 2)), sj = std::sin(v(j + 2));
+      const double cj = cos_v[j], sj = sin_v[j];
       out.r(row) = kPositionWeight * (v(0) + cx[j] + f * h * cj - pin.position.x);
       out.r(row + 1) = kPositionWeight * (v(1) + cy[j] + f * h * sj - pin.position.y);
-      out.J(row, 0) = kPositionWeight;
-      out.J(row + 1, 1) = kPositionWeight;
+      J(row, 0) = kPositionWeight;
+      J(row + 1, 1) = kPositionWeight;
       for (int k = 0; k < j; ++k) {
-        out.J(row, k + 2) = -kPositionWeight * h * std::sin(v(k + 2));
-        out.J(row + 1, k + 2) = kPositionWeight * h * std::cos(v(k + 2));
+        J(row, k + 2) = -kPositionWeight * h * sin_v[k];
+        J(row + 1, k + 2) = kPositionWeight * h * cos_v[k];
       }
-      out.J(row, j + 2) = -kPositionWeight * f * h * sj;
-      out.J(row + 1, j + 2) = kPositionWeight * f * h * cj;
+      J(row, j + 2) = -kPositionWeight * f * h * sj;
+      J(row + 1, j + 2) = kPositionWeight * f * h * cj;
       row += 2;
     }
     if (pin.has_heading) {
@@ -63,20 +67,20 @@ Residuals evaluate(const RodProblem& p, const Eigen::VectorXd& v) {
       const int a = std::min(static_cast<int>(std::floor(t)), m - 1), b = std::min(a + 1, m - 1);
       const double g = t - a;
       out.r(row) = kHeadingWeight * ((1 - g) * v(a + 2) + g * v(b + 2) - pin.heading);
-      out.J(row, a + 2) += (1 - g) * kHeadingWeight;
-      out.J(row, b + 2) += g * kHeadingWeight;
+      J(row, a + 2) += (1 - g) * kHeadingWeight;
+      J(row, b + 2) += g * kHeadingWeight;
       ++row;
     }
   }
   if (p.closed) {
     out.r(row) = (v(2) + 2 * M_PI - v(m + 1) - h * p.natural_curvature) / sqrt_h;
-    out.J(row, 2) = 1 / sqrt_h;
-    out.J(row, m + 1) = -1 / sqrt_h;
+    J(row, 2) = 1 / sqrt_h;
+    J(row, m + 1) = -1 / sqrt_h;
     out.r(row + 1) = kClosureWeight * cx[m];
     out.r(row + 2) = kClosureWeight * cy[m];
     for (int k = 0; k < m; ++k) {
-      out.J(row + 1, k + 2) = -kClosureWeight * h * std::sin(v(k + 2));
-      out.J(row + 2, k + 2) = kClosureWeight * h * std::cos(v(k + 2));
+      J(row + 1, k + 2) = -kClosureWeight * h * sin_v[k];
+      J(row + 2, k + 2) = kClosureWeight * h * cos_v[k];
     }
   }
   return out;
@@ -98,8 +102,10 @@ RodShape solve_rod(const RodProblem& p) {
   for (int iter = 0; iter < 25; ++iter) {
     // J^T J: the bending rows are a tridiagonal block, added directly; only the few pin
     // and closure rows go through a dense product.
-    const auto pin_rows = res.J.bottomRows(res.J.rows() - bend_rows);
-    Eigen::MatrixXd jtj = pin_rows.transpose() * pin_rows;
+    // Only the lower triangle of J^T J is formed: the Cholesky factorisation reads no more.
+    const Eigen::MatrixXd& pin_rows = res.J;
+    Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(m + 2, m + 2);
+    jtj.selfadjointView<Eigen::Lower>().rankUpdate(pin_rows.transpose());
     Eigen::VectorXd g = pin_rows.transpose() * res.r.tail(res.r.size() - bend_rows);
     const double h = p.length / m;
     for (int k = 0; k < bend_rows; ++k) {
