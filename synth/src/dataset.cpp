@@ -53,6 +53,14 @@ Status write_text(const std::string& path, const std::string& text) {
 
 // PNG settings fixed so the bytes do not depend on OpenCV's defaults changing.
 const std::vector<int> kPng = {cv::IMWRITE_PNG_COMPRESSION, 1};
+// Masks and label images are long runs of one value: zlib's run-length strategy encodes
+// them several times faster than the default and about as small.
+const std::vector<int> kPngMask = {cv::IMWRITE_PNG_COMPRESSION, 1, cv::IMWRITE_PNG_STRATEGY,
+                                   cv::IMWRITE_PNG_STRATEGY_RLE};
+// 0/255 masks as 1-bit PNGs: they read back as the same 0/255 8-bit image, and encode
+// ~7x faster than 8-bit ones.
+const std::vector<int> kPngBilevel = {cv::IMWRITE_PNG_COMPRESSION, 1, cv::IMWRITE_PNG_STRATEGY,
+                                      cv::IMWRITE_PNG_STRATEGY_RLE, cv::IMWRITE_PNG_BILEVEL, 1};
 
 // Records this split in OUT/dataset.json, or checks it matches what is recorded.
 Status record_dataset(const DatasetOptions& o) {
@@ -136,10 +144,10 @@ Status write_scene(const GeneratedScene& scene, const SynthConfig& config, const
   std::vector<int> params = kPng;
   if (config.camera.format == "jpg") params = {cv::IMWRITE_JPEG_QUALITY, config.camera.jpeg_quality};
   Status s = write_image((dir / a.image).string(), scene.render.image, params);
-  if (s) s = write_image((dir / a.labels).string(), scene.render.labels, kPng);
-  if (s) s = write_image((dir / a.semantic).string(), scene.render.labels > 0, kPng);
+  if (s) s = write_image((dir / a.labels).string(), scene.render.labels, kPngMask);
+  if (s) s = write_image((dir / a.semantic).string(), scene.render.labels > 0, kPngBilevel);
   for (size_t i = 0; s && i < a.rods.size(); ++i) {
-    s = write_image((dir / a.rods[i].amodal_mask).string(), scene.render.amodal[i], kPng);
+    s = write_image((dir / a.rods[i].amodal_mask).string(), scene.render.amodal[i], kPngBilevel);
   }
   if (!s) return s;
   // The annotation last: its presence marks the scene done.
