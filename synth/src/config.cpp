@@ -216,18 +216,25 @@ Result<SynthConfig> from_json(const json& j, const std::string& preset, const st
 }
 
 SynthConfig real_tubes(int rods) {
+  // Matched to mbest-real (scripts/synth-realism.sh): portrait 672x896 frames, tubes
+  // ~12 px wide as measured on the labels, the tubes crossing each other near the middle,
+  // a faint highlight, and the sensor noise left after the real set's JPEG compression.
   SynthConfig c;
+  c.scene.width = 672;
+  c.scene.height = 896;
   c.scene.rods = {double(rods), double(rods)};
-  c.scene.width_px = {11, 15};
+  c.scene.width_px = {9.5, 13};
   c.scene.length_px = {900, 1700};
   c.scene.complexity = {0.3, 0.65};
   c.scene.leave_image = 0.7;
-  c.scene.self_loop = 0.25;
+  c.scene.planned_crossings = rods - 1;
+  c.scene.crossing_angle_deg = {30, 90};
+  c.scene.self_loop = 0.3;
   c.render.palette = "real";
-  c.render.glare = 0.55;
+  c.render.glare = 0.3;
   c.render.shading = 1;
   c.camera.blur_sigma = {0.5, 0.9};
-  c.camera.noise_sigma = {1.5, 3};
+  c.camera.noise_sigma = {3, 5};
   c.camera.exposure = {0.9, 1.1};
   c.camera.format = "jpg";
   c.camera.jpeg_quality = 90;

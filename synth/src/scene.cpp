@@ -272,9 +272,10 @@ Guide ring_guide(const SceneConfig& sc, const RodDraw& d, Rng& rng) {
 }
 
 const std::vector<cv::Vec3b>& palette_colors(const std::string& palette) {
-  // Measured on the real dev set's tubes (mean colour under the lights), RGB.
-  static const std::vector<cv::Vec3b> real = {
-      {200, 104, 116}, {190, 202, 116}, {92, 156, 126}, {120, 186, 96}, {200, 152, 138}};
+  // The three tube colours of the real dev set (pink, yellow-green, teal) and S1's salmon
+  // tube, RGB: the mean colour of the tubes' cores measured on mbest-real (S1-S3), divided
+  // by 1.12, the gain of the tube shading at the core, so rendered cores match.
+  static const std::vector<cv::Vec3b> real = {{161, 82, 89}, {138, 150, 82}, {79, 131, 105}, {170, 125, 112}};
   static const std::vector<cv::Vec3b> cables = {
       {30, 30, 34},  {225, 225, 220}, {128, 128, 128}, {175, 35, 35}, {35, 70, 170},
       {215, 185, 45}, {40, 135, 65},  {225, 115, 35},  {110, 72, 42}};
@@ -301,15 +302,16 @@ std::vector<cv::Vec3b> draw_colors(const std::string& palette, int n, Rng& rng) 
     return out;
   }
   std::vector<cv::Vec3b> pool = palette_colors(palette);
-  // The real set's first four colours are distinct per scene; past the pool, reuse.
-  const int distinct = palette == "real" ? 4 : static_cast<int>(pool.size());
+  // The real set's first three colours are distinct per scene; past the pool, reuse.
+  const int distinct = palette == "real" ? 3 : static_cast<int>(pool.size());
   std::vector<int> order(distinct);
   for (int i = 0; i < distinct; ++i) order[i] = i;
   for (int i = distinct - 1; i > 0; --i) std::swap(order[i], order[rng.uniform_int(0, i)]);
   for (int i = 0; i < n; ++i) {
     int k = order[i % distinct];
-    if (palette == "real" && n == 1 && rng.chance(0.4)) k = 4;  // the salmon tube of S1
-    out.push_back(jitter(pool[k], rng, 0.06));
+    if (palette == "real" && n == 1 && rng.chance(0.4)) k = 3;  // the salmon tube of S1
+    // The real tubes' brightness varies by about +-15 % between scenes (the lights).
+    out.push_back(jitter(pool[k], rng, palette == "real" ? 0.15 : 0.06));
   }
   return out;
 }

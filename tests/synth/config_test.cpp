@@ -23,7 +23,8 @@ TEST(Config, PresetsAreValidAndDistinct) {
     EXPECT_EQ(c.value().preset, name);
   }
   EXPECT_EQ(make_config("s2", json(), "x").value().scene.rods.lo, 2);
-  EXPECT_EQ(make_config("s1", json(), "x").value().scene.width, 896);
+  EXPECT_EQ(make_config("s1", json(), "x").value().scene.width, 672);  // portrait, as mbest-real
+  EXPECT_EQ(make_config("s1", json(), "x").value().scene.height, 896);
   EXPECT_NE(error_of(json(), "s4").find("unknown preset 's4'"), std::string::npos);
 }
 
@@ -32,7 +33,7 @@ TEST(Config, OverridesApplyFieldByField) {
   EXPECT_EQ(c.scene.rods.lo, 2);
   EXPECT_EQ(c.scene.rods.hi, 5);
   EXPECT_EQ(c.camera.format, "png");
-  EXPECT_EQ(c.scene.width, 896);  // untouched fields keep the preset's value
+  EXPECT_EQ(c.scene.width, 672);  // untouched fields keep the preset's value
   // The full JSON form round-trips.
   json full = to_json(c);
   full.erase("preset");
