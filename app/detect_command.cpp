@@ -4,6 +4,8 @@
 #include <atomic>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <iostream>
 #include <map>
 #include <string>
@@ -97,7 +99,8 @@ double median(std::vector<double> v) {
 }
 
 struct Options {
-  std::string input, mask, mask_sibling, out = "mbest-out", timings;
+  std::string input, mask, mask_sibling, config, out = "mbest-out", timings;
+  DetectorConfig detector;
   bool overlay = false, quiet = false;
 };
 
@@ -122,7 +125,7 @@ Result<nlohmann::json> process(const Input& in, const Options& o, bool mask_is_f
     if (!m) return m.error();
     mask = std::move(m).value();
   }
-  Result<Detection> det = detect(mask, image.value());
+  Result<Detection> det = detect(mask, image.value(), o.detector);
   if (!det) return Error{in.path.string() + ": " + det.error().message};
 
   fs::path base = fs::path(o.out) / in.relative;
@@ -139,7 +142,22 @@ Result<nlohmann::json> process(const Input& in, const Options& o, bool mask_is_f
                         {"dlos", det.value().dlos.size()}};
 }
 
-int run(const Options& o) {
+int run(Options o) {
+  if (!o.config.empty()) {
+    std::ifstream in(o.config);
+    if (!in) {
+      std::cerr << "mbest detect: --config " << o.config << ": cannot read the file\n";
+      return 2;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    Result<DetectorConfig> c = parse_detector_config(text.str());
+    if (!c) {
+      std::cerr << "mbest detect: " << o.config << ": " << c.error().message << "\n";
+      return 2;
+    }
+    o.detector = c.value();
+  }
   Result<std::vector<Input>> inputs = list_inputs(o.input);
   if (!inputs) {
     std::cerr << "mbest detect: " << inputs.error().message << "\n";
@@ -231,6 +249,9 @@ void add_detect_command(CLI::App& app, int* exit_code) {
                   "Take each mask from a sibling folder of the image's: the mask of "
                   "a/images/x.jpg is a/NAME/x.png (e.g. `semantic` in `mbest synth` output)")
       ->excludes("--mask");
+  cmd->add_option("--config", opts->config,
+                  "JSON file of detector constants (in units of the widest DLO's radius), e.g. "
+                  "{\"fit_radii\": 4}; see DetectorConfig in core/include/mbest/core/detector.h");
   cmd->add_option("--out", opts->out, "Output folder (created if missing)")->capture_default_str();
   cmd->add_flag("--overlay", opts->overlay, "Also write <stem>.overlay.png for a person to check");
   cmd->add_option("--timings", opts->timings,

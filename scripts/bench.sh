@@ -8,7 +8,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 dataset="${1:-$root/../shared/datasets/mbest-real}"
 rounds="${2:-20}"
-"$root/scripts/setup.sh" >/dev/null
+"$root/scripts/setup.sh" --target mbest_bench --target synth_bench >/dev/null
 build="${MBEST_BUILD:-$root/build}"
 echo "== detector: $dataset, $rounds runs per frame"
 "$build/mbest_bench" "$dataset" --rounds "$rounds" --json "$build/bench-detect.json"

@@ -10,7 +10,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 count="${1:-12}"
 out="${DEMO_OUT:-$root/out/demo}"
-"$root/scripts/setup.sh" --no-tests
+"$root/scripts/setup.sh" --target mbest
 mbest="${MBEST_BUILD:-$root/build}/mbest"
 
 rm -rf "$out"

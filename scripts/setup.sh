@@ -1,21 +1,23 @@
 #!/usr/bin/env bash
 # Installs the Debian packages mbest needs (only those missing, after an apt-get update)
 # and configures and builds the project with CMake.
-# Usage: scripts/setup.sh [--sanitize] [--no-tests]
+# Usage: scripts/setup.sh [--sanitize] [--target T]...
 #   --sanitize   build with AddressSanitizer + UndefinedBehaviorSanitizer into build-asan/
-#   --no-tests   skip the test and benchmark targets
+#   --target T   build only target T (e.g. mbest); default: everything
 # Environment: MBEST_BUILD overrides the build folder (default build/, or build-asan/).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 sanitize=OFF
-tests=ON
-for arg in "$@"; do
-  case "$arg" in
+targets=()
+while (( $# )); do
+  case "$1" in
     --sanitize) sanitize=ON ;;
-    --no-tests) tests=OFF ;;
+    --target) [[ $# -ge 2 ]] || { echo "setup.sh: --target needs a name" >&2; exit 2; }
+              targets+=(--target "$2"); shift ;;
     -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "setup.sh: unknown option $arg (see --help)" >&2; exit 2 ;;
+    *) echo "setup.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
+  shift
 done
 build="${MBEST_BUILD:-$root/build}"
 [[ $sanitize == ON && -z "${MBEST_BUILD:-}" ]] && build="$root/build-asan"
@@ -37,6 +39,6 @@ fi
 build_type=Release
 [[ $sanitize == ON ]] && build_type=RelWithDebInfo
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="$build_type" -DMBEST_SANITIZE="$sanitize" \
-  -DMBEST_BUILD_TESTS="$tests" -DMBEST_BUILD_BENCH="$tests" >/dev/null
-cmake --build "$build" -j"$(nproc)"
+  -DMBEST_BUILD_TESTS=ON -DMBEST_BUILD_BENCH=ON >/dev/null
+cmake --build "$build" -j"$(nproc)" "${targets[@]}"
 echo "setup.sh: built into $build" >&2

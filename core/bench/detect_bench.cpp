@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -36,13 +37,28 @@ struct Frame {
 
 int main(int argc, char** argv) {
   CLI::App app{"mbest_bench: median detector milliseconds per frame, per tier and per stage"};
-  std::string dataset, json_out;
+  std::string dataset, json_out, config_path;
   int rounds = 10;
   app.add_option("DATASET", dataset, "Folder of tiers (e.g. ../shared/datasets/mbest-real): each "
                  "subfolder with an images/ folder is a tier")->required();
   app.add_option("--rounds", rounds, "Runs of every frame")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--json", json_out, "Also write the figures to this JSON file");
+  app.add_option("--config", config_path, "Detector constants (JSON), as `mbest detect --config`")
+      ->check(CLI::ExistingFile);
   CLI11_PARSE(app, argc, argv);
+
+  mbest::DetectorConfig config;
+  if (!config_path.empty()) {
+    std::ifstream in(config_path);
+    std::stringstream text;
+    text << in.rdbuf();
+    auto c = mbest::parse_detector_config(text.str());
+    if (!c) {
+      std::cerr << "mbest_bench: " << config_path << ": " << c.error().message << "\n";
+      return 2;
+    }
+    config = c.value();
+  }
 
   std::map<std::string, std::vector<Frame>> tiers;
   std::error_code ec;
@@ -75,7 +91,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> stage_order;
     for (int r = 0; r < rounds; ++r)
       for (const Frame& f : frames) {
-        auto det = mbest::detect(f.mask, f.image);
+        auto det = mbest::detect(f.mask, f.image, config);
         if (!det) {
           std::cerr << "mbest_bench: " << det.error().message << "\n";
           return 1;

@@ -4,12 +4,15 @@
 #include <chrono>
 #include <cmath>
 
+#include <nlohmann/json.hpp>
+
 #include "mbest/core/bending.h"
 #include "mbest/core/crossing_order.h"
 #include "mbest/core/instance_mask.h"
 #include "mbest/core/junctions.h"
 #include "mbest/core/keypoints.h"
 #include "mbest/core/prune.h"
+#include "mbest/core/resolution.h"
 #include "mbest/core/skeleton.h"
 #include "mbest/core/traverse.h"
 
@@ -103,6 +106,42 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
 
 }  // namespace
 
+Result<DetectorConfig> parse_detector_config(const std::string& json_text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(json_text);
+  } catch (const nlohmann::json::parse_error& e) {
+    return Error{std::string("detector config: not valid JSON (") + e.what() + ")"};
+  }
+  if (!j.is_object()) return Error{"detector config: expected a JSON object of fields"};
+  DetectorConfig c;
+  struct Field {
+    const char* name;
+    double* value;
+    double lo, hi;
+  };
+  const Field fields[] = {{"min_dlo_length_radii", &c.min_dlo_length_radii, 0, 1000},
+                          {"cut_radii", &c.cut_radii, 0, 100},
+                          {"fit_radii", &c.fit_radii, 0.5, 100},
+                          {"merge_radii", &c.merge_radii, 0, 100},
+                          {"epsilon_radii", &c.epsilon_radii, 0, 1000},
+                          {"wide_radii", &c.wide_radii, 0, 1000},
+                          {"half_resolution_radius", &c.half_resolution_radius, 0, 1000}};
+  for (const auto& [key, value] : j.items()) {
+    const Field* f = nullptr;
+    for (const Field& candidate : fields)
+      if (key == candidate.name) f = &candidate;
+    if (!f) return Error{"detector config: unknown field \"" + key + "\""};
+    if (!value.is_number()) return Error{"detector config: field \"" + key + "\" must be a number"};
+    const double v = value.get<double>();
+    if (!(v >= f->lo && v <= f->hi))
+      return Error{"detector config: field \"" + key + "\" = " + value.dump() + " is outside [" +
+                   std::to_string(f->lo) + ", " + std::to_string(f->hi) + "]"};
+    *f->value = v;
+  }
+  return c;
+}
+
 double Detection::total_ms() const {
   double t = 0;
   for (const StageTime& s : timings) t += s.ms;
@@ -118,26 +157,48 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   if (!bgr.empty() && bgr.size() != mask.size())
     return Error{"mask is " + std::to_string(mask.cols) + "x" + std::to_string(mask.rows) +
                  " but the image is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows)};
-  if (config.min_dlo_length_radii < 0 || config.cut_radii < 0 || config.fit_radii <= 0)
+  if (config.min_dlo_length_radii < 0 || config.cut_radii < 0 || config.fit_radii <= 0 ||
+      config.merge_radii < 0 || config.epsilon_radii < 0 || config.wide_radii < 0 ||
+      config.half_resolution_radius < 0)
     return Error{"detector config: lengths must be positive"};
 
   Detection det;
   StageClock stage(det.timings);
-  Skeleton skeleton = stage("skeleton", [&] { return skeletonize(mask); });
+  // Wide DLOs are traced at half resolution (resolution.h); where they turn out thinner than
+  // config.half_resolution_radius there, tracing starts again at full resolution.
+  bool half = config.half_resolution_radius > 0 && mask.rows >= 32 && mask.cols >= 32;
+  cv::Mat work = half ? stage("half_resolution", [&] { return half_resolution(mask); }) : mask;
   float r = 0;
-  SkeletonGraph graph = stage("keypoints", [&] {
-    SkeletonGraph g = build_skeleton_graph(skeleton, detect_keypoints(skeleton));
-    r = std::max(1.0f, measure_radii(g, mask));
-    return g;
+  auto trace_skeleton = [&](const char* skeleton_stage, const char* keypoints_stage) {
+    Skeleton skeleton = stage(skeleton_stage, [&] { return skeletonize(work); });
+    return stage(keypoints_stage, [&] {
+      SkeletonGraph g = build_skeleton_graph(skeleton, detect_keypoints(skeleton));
+      r = std::max(1.0f, measure_radii(g, work));
+      return g;
+    });
+  };
+  SkeletonGraph graph = trace_skeleton("skeleton", "keypoints");
+  if (half && 2 * r < config.half_resolution_radius) {
+    half = false;
+    work = mask;
+    graph = trace_skeleton("skeleton_full_resolution", "keypoints_full_resolution");
+  }
+  stage("prune", [&] { return prune_split_ends(graph, 2 * r, work.size()); });
+  auto regions = stage("junctions", [&] {
+    return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,
+                           config.wide_radii * r);
   });
-  stage("prune", [&] { return prune_split_ends(graph, 2 * r, mask.size()); });
-  auto regions = stage("junctions", [&] { return group_junctions(graph, r, 10 * r, 30 * r); });
   auto passages = stage("bending", [&] {
     return build_passages(graph, regions, config.cut_radii * r, config.fit_radii * r);
   });
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);
   });
+  if (half)
+    stage("full_resolution", [&] {
+      to_full_resolution(traversal, passages, regions, mask);
+      return 0;
+    });
   auto ordered = stage("crossing_order", [&] {
     return order_crossings(passages, static_cast<int>(regions.size()), bgr);
   });

@@ -201,9 +201,7 @@ float distance_to_background(const cv::Mat& mask, cv::Point p) {
   return std::sqrt(static_cast<float>(best));
 }
 
-namespace {
-
-std::vector<float> sampled_radius(const std::vector<cv::Point>& px, const cv::Mat& mask, int stride) {
+std::vector<float> sample_radius(const std::vector<cv::Point>& px, const cv::Mat& mask, int stride) {
   std::vector<float> r(px.size());
   if (px.empty()) return r;
   std::vector<size_t> at;
@@ -218,6 +216,8 @@ std::vector<float> sampled_radius(const std::vector<cv::Point>& px, const cv::Ma
   return r;
 }
 
+namespace {
+
 float median(std::vector<float> v) {
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
@@ -228,12 +228,12 @@ float median(std::vector<float> v) {
 float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride) {
   float widest = 0;
   for (Branch& b : graph.branches) {
-    b.radius = sampled_radius(b.pixels, mask, stride);
+    b.radius = sample_radius(b.pixels, mask, stride);
     if (b.pixels.size() >= 5) widest = std::max(widest, median(b.radius));
   }
   graph.ring_radius.clear();
   for (const auto& ring : graph.rings) {
-    graph.ring_radius.push_back(sampled_radius(ring, mask, stride));
+    graph.ring_radius.push_back(sample_radius(ring, mask, stride));
     widest = std::max(widest, median(graph.ring_radius.back()));
   }
   if (widest == 0) {  // only tiny pieces: fall back to any measured pixel

@@ -38,8 +38,7 @@ struct Builder {
   }
 
   // Walks from `start` (entering its branch there) until a true end or back to the start.
-  void walk(BranchEnd start, Dlo& dlo, std::vector<int>& dlo_passages,
-            std::vector<std::pair<int, size_t>>& passage_starts) {
+  void walk(BranchEnd start, Dlo& dlo, std::vector<int>& dlo_passages) {
     BranchEnd cur = start;
     for (;;) {
       visited[cur.branch] = true;
@@ -55,7 +54,6 @@ struct Builder {
       if (p < 0) return;
       const Passage& ps = passages[p];
       const bool forward = ps.from == exit;
-      passage_starts.emplace_back(p, dlo.centerline.size());
       dlo_passages.push_back(p);
       const size_t m = ps.path.size();
       for (size_t i = 0; i < m; ++i) {
@@ -78,10 +76,8 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
   Builder builder(g, passages);
   Traversal t;
   t.passage_dlo.assign(passages.size(), -1);
-  t.passage_start.assign(passages.size(), 0);
 
-  auto keep = [&](Dlo&& dlo, const std::vector<int>& dps,
-                  const std::vector<std::pair<int, size_t>>& starts) {
+  auto keep = [&](Dlo&& dlo, const std::vector<int>& dps) {
     if (dlo.closed && dlo.centerline.size() > 2) {
       // The walk ends where it began: close the gap to the first pixel, without repeating it.
       if (dlo.centerline.back() != dlo.centerline.front())
@@ -91,10 +87,7 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
     }
     if (chain_length(dlo.centerline) < min_length) return;
     const int id = static_cast<int>(t.dlos.size());
-    for (const auto& [p, start] : starts) {
-      t.passage_dlo[p] = id;
-      t.passage_start[p] = start;
-    }
+    for (int p : dps) t.passage_dlo[p] = id;
     t.dlo_passages.push_back(dps);
     t.dlos.push_back(std::move(dlo));
   };
@@ -106,9 +99,8 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
       if (!b.alive || builder.visited[i] || builder.passage_of({i, s}) >= 0) continue;
       Dlo dlo;
       std::vector<int> dps;
-      std::vector<std::pair<int, size_t>> starts;
-      builder.walk({i, s}, dlo, dps, starts);
-      keep(std::move(dlo), dps, starts);
+      builder.walk({i, s}, dlo, dps);
+      keep(std::move(dlo), dps);
     }
   }
   // Closed DLOs through crossings: every branch end is paired.
@@ -116,10 +108,9 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
     if (!g.branches[i].alive || builder.visited[i]) continue;
     Dlo dlo;
     std::vector<int> dps;
-    std::vector<std::pair<int, size_t>> starts;
-    builder.walk({i, 0}, dlo, dps, starts);
+    builder.walk({i, 0}, dlo, dps);
     dlo.closed = true;
-    keep(std::move(dlo), dps, starts);
+    keep(std::move(dlo), dps);
   }
   // Rings: closed chains that never met a junction.
   for (size_t k = 0; k < g.rings.size(); ++k) {
@@ -127,7 +118,7 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
     dlo.centerline = g.rings[k];
     dlo.radius = g.ring_radius[k];
     dlo.closed = true;
-    keep(std::move(dlo), {}, {});
+    keep(std::move(dlo), {});
   }
   return t;
 }

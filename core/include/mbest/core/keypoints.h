@@ -65,6 +65,10 @@ float distance_to_background(const cv::Mat& mask, cv::Point p);
 // wider than any DLO, do not inflate it). Returns 0 for an empty graph.
 float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride = 4);
 
+// Radius along a pixel chain: distance_to_background every `stride` pixels (and at the
+// last), linearly interpolated between.
+std::vector<float> sample_radius(const std::vector<cv::Point>& chain, const cv::Mat& mask, int stride);
+
 // Arc length of an 8-connected pixel chain (1 per straight step, sqrt 2 per diagonal).
 double chain_length(const std::vector<cv::Point>& pixels);
 

@@ -12,10 +12,8 @@ namespace mbest {
 
 struct Traversal {
   std::vector<Dlo> dlos;  // centerline and radius filled; crossings empty
-  // For each passage: the DLO that runs through it (-1 if that DLO was dropped as too short)
-  // and where its path starts in that DLO's centerline.
+  // For each passage: the DLO that runs through it (-1 if that DLO was dropped as too short).
   std::vector<int> passage_dlo;
-  std::vector<size_t> passage_start;
   std::vector<std::vector<int>> dlo_passages;  // per DLO, its passages in traversal order
 };
 
