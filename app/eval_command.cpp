@@ -1,6 +1,7 @@
-// `mbest eval DATASET (--pred DIR | --run) [--report DIR] [--json] [--min-dice PCT]`:
+// `mbest eval DATASET (--pred DIR | --run) [--report DIR] [--json] [gates]`:
 // scores predictions against a data set's ground truth and prints a table per tier.
-// Exit codes: 0 success, 1 bad input, 2 a tier's strict DICE below --min-dice.
+// Exit codes: 0 success, 1 bad input, 2 a tier misses a gate (--min-dice, --max-below-95,
+// --max-count-errors).
 #include <unistd.h>
 
 #include <cstdio>
@@ -28,6 +29,7 @@ struct EvalArgs {
   std::string report;
   bool json = false;
   double min_dice = -1;
+  int max_below_95 = -1, max_count_errors = -1;  // -1: not checked
   int threads = 2;
   int worst = 8;
 };
@@ -38,6 +40,8 @@ std::string command_line(const EvalArgs& a) {
   if (!a.report.empty()) out << " --report " << a.report;
   if (a.json) out << " --json";
   if (a.min_dice >= 0) out << " --min-dice " << a.min_dice;
+  if (a.max_below_95 >= 0) out << " --max-below-95 " << a.max_below_95;
+  if (a.max_count_errors >= 0) out << " --max-count-errors " << a.max_count_errors;
   return out.str();
 }
 
@@ -115,6 +119,16 @@ int run_eval(const EvalArgs& a) {
                    t.tier.c_str(), t.strict_mean, a.min_dice);
       code = 2;
     }
+    if (a.max_below_95 >= 0 && t.below_95 > a.max_below_95) {
+      std::fprintf(stderr, "mbest eval: tier %s: %d images below 95 %% strict DICE (allowed: %d)\n",
+                   t.tier.c_str(), t.below_95, a.max_below_95);
+      code = 2;
+    }
+    if (a.max_count_errors >= 0 && t.count_errors > a.max_count_errors) {
+      std::fprintf(stderr, "mbest eval: tier %s: %d images with a wrong DLO count (allowed: %d)\n",
+                   t.tier.c_str(), t.count_errors, a.max_count_errors);
+      code = 2;
+    }
   }
   return code;
 }
@@ -126,7 +140,8 @@ void add_eval_command(CLI::App& app, int* exit_code) {
       "eval",
       "Score predictions against a data set's ground truth: matched DICE per tier (strict, "
       "lenient, count errors); on synthetic data also crossing resolution and centerline error. "
-      "Exit code 1 on bad input, 2 when a tier is below --min-dice.");
+      "Exit code 1 on bad input, 2 when a tier misses a gate (--min-dice, --max-below-95, "
+      "--max-count-errors).");
   auto a = std::make_shared<EvalArgs>();
   cmd->add_option("DATASET", a->dataset,
                   "data set: DATASET/<tier>/images + labels (mbest-real), or the synth layout "
@@ -141,6 +156,12 @@ void add_eval_command(CLI::App& app, int* exit_code) {
   cmd->add_option("--min-dice", a->min_dice,
                   "exit with code 2 if any tier's strict DICE (percent) is below this")
       ->check(CLI::Range(0.0, 100.0));
+  cmd->add_option("--max-below-95", a->max_below_95,
+                  "exit with code 2 if any tier has more images below 95 % strict DICE")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-count-errors", a->max_count_errors,
+                  "exit with code 2 if any tier has more images with a wrong DLO count")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", a->threads, "images scored in parallel")->capture_default_str()
       ->check(CLI::Range(1, 64));
   cmd->add_option("--worst", a->worst, "images in the report's gallery")->capture_default_str()
