@@ -143,6 +143,7 @@ Result<SynthConfig> from_json(const json& j, const std::string& preset, const st
   r.range(s, ps, "parallel_gap_px", 0, 50, &sc.parallel_gap_px);
   r.range(s, ps, "parallel_length_px", 10, 5000, &sc.parallel_length_px);
   r.number(s, ps, "self_loop", 0, 1, &sc.self_loop);
+  r.range(s, ps, "loop_size", 0.5, 20, &sc.loop_size);
   r.integer(s, ps, "rings", 0, 12, &sc.rings);
   r.range(s, ps, "ring_diameter_px", 10, 5000, &sc.ring_diameter_px);
   r.integer(s, ps, "triple_points", 0, 4, &sc.triple_points);
@@ -217,8 +218,9 @@ Result<SynthConfig> from_json(const json& j, const std::string& preset, const st
 
 SynthConfig real_tubes(int rods) {
   // Matched to mbest-real (scripts/synth-realism.sh): portrait 672x896 frames, tubes
-  // ~12 px wide as measured on the labels, the tubes crossing each other near the middle,
-  // a faint highlight, and the sensor noise left after the real set's JPEG compression.
+  // ~12 px wide as measured on the labels, loops 60-120 px across, a faint highlight, and
+  // the sensor noise left after the real set's JPEG compression. The rods are long enough
+  // to cross each other ~3 times a scene unplanned, as the real ones do.
   SynthConfig c;
   c.scene.width = 672;
   c.scene.height = 896;
@@ -227,9 +229,8 @@ SynthConfig real_tubes(int rods) {
   c.scene.length_px = {900, 1700};
   c.scene.complexity = {0.3, 0.65};
   c.scene.leave_image = 0.7;
-  c.scene.planned_crossings = rods - 1;
-  c.scene.crossing_angle_deg = {30, 90};
   c.scene.self_loop = 0.3;
+  c.scene.loop_size = {4, 7};  // the real tubes' loops are 60-120 px across
   c.render.palette = "real";
   c.render.glare = 0.3;
   c.render.shading = 1;
@@ -315,6 +316,7 @@ json to_json(const SynthConfig& c) {
             {"parallel_gap_px", range_json(s.parallel_gap_px)},
             {"parallel_length_px", range_json(s.parallel_length_px)},
             {"self_loop", s.self_loop},
+            {"loop_size", range_json(s.loop_size)},
             {"rings", s.rings},
             {"ring_diameter_px", range_json(s.ring_diameter_px)},
             {"triple_points", s.triple_points}}},

@@ -155,7 +155,7 @@ Guide free_guide(const SceneConfig& sc, const RodDraw& d, Rng& rng) {
   int loop_at = -1;
   double lambda = 0;
   if (rng.chance(sc.self_loop) && n > 200) {
-    lambda = rng.uniform(std::max(10.0, 2.0 * d.width), std::max(14.0, 3.5 * d.width));
+    lambda = rng.uniform(std::max(10.0, sc.loop_size.lo * d.width), std::max(14.0, sc.loop_size.hi * d.width));
     loop_at = static_cast<int>(n * rng.uniform(0.25, 0.75));
     add_loop(g, loop_at, lambda, rng.chance(0.5) ? 1 : -1);
   }

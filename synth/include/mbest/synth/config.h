@@ -32,6 +32,8 @@ struct SceneConfig {
   Range parallel_gap_px{1, 4};           // "parallel_gap_px": gap between the tubes, 0..50
   Range parallel_length_px{80, 250};     // "parallel_length_px": the shared stretch, 10..5000
   double self_loop = 0;                  // "self_loop": P(a rod has a loop), 0..1
+  Range loop_size{2, 3.5};               // "loop_size": a loop's elastica scale (its size)
+                                         //   in rod widths, 0.5..20 (at least 10-14 px)
   int rings = 0;                         // "rings": closed rods, 0..12
   Range ring_diameter_px{80, 200};       // "ring_diameter_px": 10..5000
   int triple_points = 0;                 // "triple_points": three rods through one point, 0..4
