@@ -27,26 +27,45 @@ cv::Mat smooth_noise(cv::Size size, double cell, Rng& rng) {
     for (int x = 0; x < gw; ++x) g.at<float>(y, x) = static_cast<float>(rng.uniform());
   cv::Mat up;
   cv::resize(g, up, cv::Size(static_cast<int>(gw * cell), static_cast<int>(gh * cell)), 0, 0, cv::INTER_CUBIC);
-  return up(cv::Rect(0, 0, size.width, size.height)).clone();
+  return up(cv::Rect(0, 0, size.width, size.height));  // a view: no copy of the frame
 }
 
-// Fine grain: a small random tile, repeated at a random offset (cheap, and the repeat is
-// hidden under the coarser structure).
-cv::Mat grain(cv::Size size, Rng& rng, double sigma) {
-  cv::Mat tile(128, 128, CV_32F);
+// Colour = base * (scale * field + offset + grain) in one pass over the frame: `field` is
+// smooth noise (CV_32F), the grain a small random tile of sd `sigma`, repeated at a random
+// offset (cheap, and the repeat is hidden under the coarser structure).
+cv::Mat tint_grained(const cv::Mat& field, double scale, double offset, double sigma, const cv::Vec3b& rgb,
+                     Rng& rng) {
+  constexpr int kTile = 128;
+  cv::Mat tile(kTile, kTile, CV_32F);
   cv::RNG cv_rng(rng.next());
   cv_rng.fill(tile, cv::RNG::NORMAL, 0, sigma);
-  cv::Mat out;
-  cv::repeat(tile, size.height / 128 + 2, size.width / 128 + 2, out);
-  return out(cv::Rect(rng.uniform_int(0, 127), rng.uniform_int(0, 127), size.width, size.height)).clone();
+  const int ox = rng.uniform_int(0, kTile - 1), oy = rng.uniform_int(0, kTile - 1);
+  const float a = static_cast<float>(scale), b = static_cast<float>(offset);
+  const float base[3] = {static_cast<float>(rgb[2]), static_cast<float>(rgb[1]), static_cast<float>(rgb[0])};
+  cv::Mat out(field.size(), CV_8UC3);
+  for (int y = 0; y < field.rows; ++y) {
+    const float* f = field.ptr<float>(y);
+    const float* t = tile.ptr<float>((y + oy) % kTile);
+    uchar* o = out.ptr<uchar>(y);
+    for (int x = 0; x < field.cols; ++x) {
+      const float gain = a * f[x] + b + t[(x + ox) % kTile];
+      for (int k = 0; k < 3; ++k) o[3 * x + k] = cv::saturate_cast<uchar>(base[k] * gain);
+    }
+  }
+  return out;
 }
 
 // Colour = base * (gain field), gain field per pixel (CV_32F, ~1).
 cv::Mat tint(const cv::Mat& gain, const cv::Vec3b& rgb) {
-  cv::Mat channels[3];
-  for (int k = 0; k < 3; ++k) gain.convertTo(channels[k], CV_8U, rgb[2 - k]);
-  cv::Mat out;
-  cv::merge(channels, 3, out);
+  const float base[3] = {static_cast<float>(rgb[2]), static_cast<float>(rgb[1]), static_cast<float>(rgb[0])};
+  cv::Mat out(gain.size(), CV_8UC3);
+  for (int y = 0; y < gain.rows; ++y) {
+    const float* g = gain.ptr<float>(y);
+    uchar* o = out.ptr<uchar>(y);
+    for (int x = 0; x < gain.cols; ++x) {
+      for (int k = 0; k < 3; ++k) o[3 * x + k] = cv::saturate_cast<uchar>(base[k] * g[x]);
+    }
+  }
   return out;
 }
 
@@ -133,14 +152,14 @@ Result<cv::Mat> make_background(const BackgroundConfig& config, cv::Size size, R
   if (type == "solid") return cv::Mat(size, CV_8UC3, bgr(base));
   if (type == "gradient") return gradient(size, base, rng);
   if (type == "noise") {
-    cv::Mat gain = smooth_noise(size, rng.uniform(30, 150), rng) * 0.5 + 0.75;
-    gain += grain(size, rng, 0.04);
-    return tint(gain, vary(base, rng, 15));
+    const cv::Mat field = smooth_noise(size, rng.uniform(30, 150), rng);
+    const cv::Vec3b colour = vary(base, rng, 15);
+    return tint_grained(field, 0.5, 0.75, 0.04, colour, rng);
   }
   if (type == "paper") {
-    cv::Mat gain = smooth_noise(size, 250, rng) * 0.08 + 0.92;
-    gain += grain(size, rng, 0.025);
-    return tint(gain, vary({225, 220, 205}, rng, 10));
+    const cv::Mat field = smooth_noise(size, 250, rng);
+    const cv::Vec3b colour = vary({225, 220, 205}, rng, 10);
+    return tint_grained(field, 0.08, 0.92, 0.025, colour, rng);
   }
   if (type == "wood") return wood(size, rng);
   if (type == "checker") return checker(size, base, rng);
