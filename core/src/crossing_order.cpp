@@ -2,10 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace mbest {
 
-double colour_spread(const cv::Mat& bgr, const std::vector<cv::Point>& path) {
+int blur_half_size(float radius) {
+  return std::clamp(static_cast<int>(std::floor(radius - 1.5f)), 0, 2);
+}
+
+double colour_spread(const cv::Mat& bgr, const std::vector<cv::Point>& path, int half) {
   if (path.empty() || bgr.empty()) return 0;
   double sum[3] = {0, 0, 0}, sq[3] = {0, 0, 0};
   int n = 0;
@@ -13,9 +18,9 @@ double colour_spread(const cv::Mat& bgr, const std::vector<cv::Point>& path) {
     if (p.x < 0 || p.y < 0 || p.x >= bgr.cols || p.y >= bgr.rows) continue;
     double acc[3] = {0, 0, 0};
     int count = 0;
-    for (int y = std::max(0, p.y - 2); y <= std::min(bgr.rows - 1, p.y + 2); ++y) {
+    for (int y = std::max(0, p.y - half); y <= std::min(bgr.rows - 1, p.y + half); ++y) {
       const cv::Vec3b* row = bgr.ptr<cv::Vec3b>(y);
-      for (int x = std::max(0, p.x - 2); x <= std::min(bgr.cols - 1, p.x + 2); ++x) {
+      for (int x = std::max(0, p.x - half); x <= std::min(bgr.cols - 1, p.x + half); ++x) {
         for (int c = 0; c < 3; ++c) acc[c] += row[x][c];
         ++count;
       }
@@ -44,7 +49,12 @@ std::vector<std::vector<int>> order_crossings(const std::vector<Passage>& passag
   std::vector<double> score(passages.size(), 0);
   for (auto& list : by_region) {
     if (list.size() < 2) continue;
-    for (int i : list) score[i] = bgr.empty() ? passages[i].energy : colour_spread(bgr, passages[i].path);
+    // One blur for all strands of a crossing, sized to the thinnest of them.
+    float thinnest = std::numeric_limits<float>::max();
+    for (int i : list)
+      for (float r : {passages[i].from_tangent.radius, passages[i].to_tangent.radius}) thinnest = std::min(thinnest, r);
+    const int half = blur_half_size(thinnest);
+    for (int i : list) score[i] = bgr.empty() ? passages[i].energy : colour_spread(bgr, passages[i].path, half);
     std::stable_sort(list.begin(), list.end(), [&](int a, int b) { return score[a] < score[b]; });
     ordered.push_back(list);
   }

@@ -1,6 +1,7 @@
 #include "mbest/core/prune.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace mbest {
 
@@ -13,6 +14,37 @@ bool leaves_image(const SkeletonGraph& g, const Branch& b, int side, cv::Size im
   const int to_border = 1 + std::min({e.x, e.y, image.width - 1 - e.x, image.height - 1 - e.y});
   const float r = b.radius.empty() ? 1.0f : (side == 0 ? b.radius.front() : b.radius.back());
   return to_border <= r + 1.5f;
+}
+
+cv::Point2f unit(cv::Point2f v) {
+  const float n = std::hypot(v.x, v.y);
+  return n > 0 ? v * (1.0f / n) : v;
+}
+
+// The pixel `reach` px along branch end `e` from its node (or the branch's far end).
+cv::Point2f along(const Branch& b, int side, double reach) {
+  const int n = static_cast<int>(b.pixels.size());
+  const int k = std::min(n - 1, static_cast<int>(reach));
+  return cv::Point2f(side == 0 ? b.pixels[k] : b.pixels[n - 1 - k]);
+}
+
+// Is the short branch `i` (end side `end_side`) the stub of a DLO that ends just past a
+// crossing rather than a split end? Then its junction is a crossing (four or more
+// branches) and the stub runs straight on from another branch there; split ends sprout
+// sideways from a DLO's body or fork at its end.
+bool is_stub_past_crossing(const SkeletonGraph& g, int i, int end_side, double reach) {
+  const Branch& b = g.branches[i];
+  const Node& junction = g.nodes[b.node[1 - end_side]];
+  if (junction.degree() < 4 || b.pixels.empty()) return false;
+  const cv::Point2f c = junction.centre;
+  const cv::Point2f stub = unit(cv::Point2f(g.nodes[b.node[end_side]].pixels.front()) - c);
+  for (const BranchEnd& e : junction.branch_ends) {
+    const Branch& other = g.branches[e.branch];
+    if (e.branch == i || !other.alive || other.pixels.empty()) continue;
+    const cv::Point2f out = unit(along(other, e.side, reach) - c);
+    if (stub.dot(-out) > std::cos(35.0 * M_PI / 180)) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -32,7 +64,7 @@ int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image) {
   for (int i : spurs) {
     Branch& b = g.branches[i];
     const int end_side = g.nodes[b.node[0]].kind == Node::Kind::end ? 0 : 1;
-    if (leaves_image(g, b, end_side, image)) continue;
+    if (leaves_image(g, b, end_side, image) || is_stub_past_crossing(g, i, end_side, delta)) continue;
     Node& junction = g.nodes[b.node[1 - end_side]];
     if (junction.degree() < 3) continue;  // would cut a line in two
     b.alive = false;

@@ -15,6 +15,13 @@ TEST(CrossingOrder, UniformPathHasNoSpread) {
   EXPECT_EQ(colour_spread(img, {}), 0);
 }
 
+TEST(CrossingOrder, BlurFitsInsideTheStrand) {
+  EXPECT_EQ(blur_half_size(9.0f), 2);  // the paper's 5x5 box
+  EXPECT_EQ(blur_half_size(3.5f), 2);
+  EXPECT_EQ(blur_half_size(3.0f), 1);  // a 6 px cable: 3x3
+  EXPECT_EQ(blur_half_size(1.5f), 0);  // hairline: no blur
+}
+
 TEST(CrossingOrder, SpreadSumsChannelsOfTheBlurredImage) {
   cv::Mat img = cv::Mat::zeros(60, 60, CV_8UC3);
   img(cv::Rect(30, 0, 30, 60)).setTo(cv::Scalar(0, 0, 100));

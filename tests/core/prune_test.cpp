@@ -49,3 +49,26 @@ TEST(Prune, ForkedEndKeepsItsLongerSpur) {
 
 }  // namespace
 }  // namespace mbest
+
+namespace mbest {
+namespace {
+
+TEST(Prune, StubOfARodEndingJustPastACrossingStays) {
+  // A vertical rod crosses a horizontal one and ends a few pixels past its edge: the stub
+  // is shorter than 2 r but it is the vertical rod's end, not a split end.
+  cv::Mat mask = cv::Mat::zeros(200, 300, CV_8UC1);
+  test::draw_rod(mask, {{20, 100}, {280, 100}}, 15);  // 17 px wide: rows 92..108
+  test::draw_rod(mask, {{150, 20}, {150, 116}}, 9);   // ends 8 px past the other's edge
+  Skeleton s = skeletonize(mask);
+  SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
+  const float r = measure_radii(g, mask);
+  int short_spurs = 0;
+  for (const Branch& b : g.branches)
+    short_spurs += b.length < 2 * r && (g.nodes[b.node[0]].kind == Node::Kind::end) !=
+                                           (g.nodes[b.node[1]].kind == Node::Kind::end);
+  ASSERT_EQ(short_spurs, 1) << "the scene should give the stub as the only short spur";
+  EXPECT_EQ(prune_split_ends(g, 2 * r, mask.size()), 0);
+}
+
+}  // namespace
+}  // namespace mbest

@@ -9,9 +9,11 @@ namespace mbest {
 
 // Removes split ends from `graph`, shortest first; a junction keeps at least two branches
 // (of two spurs at a real end, the longer one stays as the DLO's end). Left alone: branches
-// joining two ends (short isolated pieces), and branches whose end is as close to the
-// border of an image of size `image` as to the mask's edge (a DLO leaving the image, whose
-// stub beyond a crossing near the border may be short). Returns the number removed.
+// joining two ends (short isolated pieces); branches whose end is as close to the border
+// of an image of size `image` as to the mask's edge (a DLO leaving the image, whose stub
+// beyond a crossing near the border may be short); and the stub of a DLO ending just past
+// a crossing: a branch from a junction of four or more branches that runs straight on
+// (within 35 degrees) from another branch there. Returns the number removed.
 int prune_split_ends(SkeletonGraph& graph, double delta, cv::Size image);
 
 }  // namespace mbest
