@@ -51,7 +51,7 @@ struct DetectorConfig {
   double min_dlo_length_radii = 3.0;  // shorter traversals are mask noise, not DLOs
   double cut_radii = 1.0;    // skeleton next to a crossing replaced by the path through it
   double fit_radii = 3.0;    // stretch of branch a crossing tangent is fitted to
-  double merge_radii = 1.0;  // junctions joined by a shorter branch are one crossing
+  double merge_radii = 2.0;  // junctions joined by a shorter branch are one crossing
   double epsilon_radii = 10.0;  // Ys joined by a shorter branch are one crossing (paper)
   double wide_radii = 30.0;  // ... or by a branch up to this long, if it is wider than a DLO
   // Speed mode, off by default: masks whose widest DLO has at least this radius in pixels
