@@ -227,7 +227,7 @@ SynthConfig real_tubes(int rods) {
   c.scene.rods = {double(rods), double(rods)};
   c.scene.width_px = {9.5, 13};
   c.scene.length_px = {900, 1700};
-  c.scene.complexity = {0.3, 0.65};
+  c.scene.complexity = {0.15, 0.45};  // the real tubes bend in broad arcs
   c.scene.leave_image = 0.7;
   c.scene.self_loop = 0.3;
   c.scene.loop_size = {4, 7};  // the real tubes' loops are 60-120 px across
