@@ -21,7 +21,9 @@ struct Outcome {
 };
 
 Outcome mbest(const std::string& args) {
-  const std::string err_file = ::testing::TempDir() + "mbest_eval_stderr.txt";
+  // One file per test: CTest runs the tests of this file in parallel processes.
+  const std::string err_file = ::testing::TempDir() + "mbest_eval_stderr_" +
+                               ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".txt";
   const std::string cmd = std::string(MBEST_BINARY) + " " + args + " 2>" + err_file;
   Outcome r;
   FILE* p = popen(cmd.c_str(), "r");
