@@ -18,6 +18,7 @@
 #include "commands.h"
 #include "io.h"
 #include "mbest/core/detector.h"
+#include "mbest/core/median.h"
 #include "mbest/core/overlay.h"
 #include "mbest/core/segmentation.h"
 
@@ -91,12 +92,6 @@ nlohmann::json detection_json(const Detection& det, const std::string& image, cv
   return j;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Options {
   std::string input, mask, mask_sibling, config, out = "mbest-out", timings;

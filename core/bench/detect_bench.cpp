@@ -16,18 +16,12 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "mbest/core/detector.h"
+#include "mbest/core/median.h"
 #include "mbest/core/segmentation.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Frame {
   cv::Mat mask, image;
@@ -103,14 +97,14 @@ int main(int argc, char** argv) {
         }
       }
     std::sort(totals.begin(), totals.end());
-    const double med = median(totals);
+    const double med = mbest::median(totals);
     tier_median[name] = med;
     std::printf("%-6s %6zu %10.3f %10.3f %10.3f  ", name.c_str(), frames.size(), med,
                 totals[totals.size() / 10], totals[totals.size() * 9 / 10]);
     nlohmann::json st;
     for (const std::string& s : stage_order) {
-      st[s] = median(stages[s]);
-      std::printf(" %s %.3f", s.c_str(), median(stages[s]));
+      st[s] = mbest::median(stages[s]);
+      std::printf(" %s %.3f", s.c_str(), mbest::median(stages[s]));
     }
     std::printf("\n");
     out["tiers"][name] = {{"frames", frames.size()}, {"runs", totals.size()}, {"median_ms", med},

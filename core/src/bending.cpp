@@ -1,6 +1,7 @@
 #include "mbest/core/bending.h"
 
 #include "mbest/core/geometry.h"
+#include "mbest/core/median.h"
 
 #include <algorithm>
 #include <cmath>
@@ -90,8 +91,7 @@ BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double c
 
   std::vector<float> r;
   for (int i = cut; i <= last; ++i) r.push_back(rad(i));
-  std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
-  t.radius = r[r.size() / 2];
+  t.radius = middle_value(r);
   return t;
 }
 

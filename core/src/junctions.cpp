@@ -1,4 +1,5 @@
 #include "mbest/core/junctions.h"
+#include "mbest/core/median.h"
 
 #include <algorithm>
 #include <numeric>
@@ -21,11 +22,6 @@ bool joins_junctions(const SkeletonGraph& g, const Branch& b) {
          g.nodes[b.node[1]].kind == Node::Kind::junction;
 }
 
-float median(std::vector<float> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 // Is branch `i`, joining two junctions, wider than the other branches at those junctions
 // (their first `reach` pixels)?
@@ -44,7 +40,7 @@ bool wider_than_neighbours(const SkeletonGraph& g, int i, double reach) {
       for (int k = 0; k < std::min(n, static_cast<int>(reach)); ++k)
         around.push_back(e.side == 0 ? b.radius[k] : b.radius[n - 1 - k]);
     }
-  const float typical = median(around);
+  const float typical = middle_value(around);
   return typical > 0 && mean >= 1.25 * typical;
 }
 

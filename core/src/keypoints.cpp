@@ -1,4 +1,5 @@
 #include "mbest/core/keypoints.h"
+#include "mbest/core/median.h"
 
 #include <algorithm>
 #include <bitset>
@@ -216,25 +217,16 @@ std::vector<float> sample_radius(const std::vector<cv::Point>& px, const cv::Mat
   return r;
 }
 
-namespace {
-
-float median(std::vector<float> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
-
 float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride) {
   float widest = 0;
   for (Branch& b : graph.branches) {
     b.radius = sample_radius(b.pixels, mask, stride);
-    if (b.pixels.size() >= 5) widest = std::max(widest, median(b.radius));
+    if (b.pixels.size() >= 5) widest = std::max(widest, middle_value(b.radius));
   }
   graph.ring_radius.clear();
   for (const auto& ring : graph.rings) {
     graph.ring_radius.push_back(sample_radius(ring, mask, stride));
-    widest = std::max(widest, median(graph.ring_radius.back()));
+    widest = std::max(widest, middle_value(graph.ring_radius.back()));
   }
   if (widest == 0) {  // only tiny pieces: fall back to any measured pixel
     for (const Branch& b : graph.branches)
