@@ -17,7 +17,7 @@
 
 namespace mbest::synth {
 
-const char* const kGeneratorVersion = "0.2.0";
+const char* const kGeneratorVersion = "0.3.0";
 
 namespace {
 

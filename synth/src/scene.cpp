@@ -464,6 +464,42 @@ std::vector<CrossingAnnotation> find_crossings(const std::vector<SceneRod>& rods
   return out;
 }
 
+namespace {
+
+// A rod that leaves the picture and comes back shows as two pieces no detector can join,
+// yet its label would count them as one instance. Each open rod keeps only its longest
+// stretch that can be seen (its disc, half a width around the centerline, touching the
+// picture), so every visible rod is one connected piece. Returns false when nothing of the
+// rod can be seen.
+bool keep_longest_visible_run(SceneRod& rod, int width, int height) {
+  const double margin = rod.width / 2 + 1;
+  auto visible = [&](const cv::Point2d& p) {
+    return p.x >= -margin && p.y >= -margin && p.x <= width - 1 + margin && p.y <= height - 1 + margin;
+  };
+  const auto& c = rod.centerline;
+  size_t best_start = 0, best_len = 0;
+  for (size_t i = 0; i < c.size();) {
+    if (!visible(c[i])) {
+      ++i;
+      continue;
+    }
+    size_t j = i;
+    while (j < c.size() && visible(c[j])) ++j;
+    if (j - i > best_len) {
+      best_start = i;
+      best_len = j - i;
+    }
+    i = j;
+  }
+  if (best_len == 0) return false;
+  if (best_len < c.size())
+    rod.centerline = std::vector<cv::Point2d>(c.begin() + static_cast<long>(best_start),
+                                              c.begin() + static_cast<long>(best_start + best_len));
+  return true;
+}
+
+}  // namespace
+
 Scene compose_scene(const SynthConfig& config, Rng& rng) {
   const SceneConfig& sc = config.scene;
   Scene best;
@@ -473,6 +509,8 @@ Scene compose_scene(const SynthConfig& config, Rng& rng) {
     s.width = sc.width;
     s.height = sc.height;
     s.rods = compose_rods(sc, rng);
+    for (SceneRod& rod : s.rods)
+      if (!rod.closed) keep_longest_visible_run(rod, s.width, s.height);
     s.crossings = find_crossings(s.rods, s.width, s.height);
     const int n = static_cast<int>(s.crossings.size());
     const int miss = n < sc.crossings.lo ? int(sc.crossings.lo) - n
