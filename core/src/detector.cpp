@@ -199,6 +199,10 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
       to_full_resolution(traversal, passages, regions, mask);
       return 0;
     });
+  stage("extend_ends", [&] {
+    extend_ends(traversal.dlos, mask, half ? 2 * r : r);
+    return 0;
+  });
   auto ordered = stage("crossing_order", [&] {
     return order_crossings(passages, static_cast<int>(regions.size()), bgr);
   });

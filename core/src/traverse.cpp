@@ -1,5 +1,8 @@
 #include "mbest/core/traverse.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "mbest/core/geometry.h"
 
 namespace mbest {
@@ -121,6 +124,60 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
     keep(std::move(dlo), {});
   }
   return t;
+}
+
+namespace {
+
+// Extends `line` (and `radius`) beyond its last pixel; see extend_ends.
+void extend_tail(std::vector<cv::Point>& line, std::vector<float>& radius, const cv::Mat& mask, float r) {
+  // Direction from the chord 3 r .. r before the end: the last r px bend towards a corner
+  // of a flat tip.
+  const int n = static_cast<int>(line.size());
+  const int back = std::min(n - 1, std::max(2, static_cast<int>(std::lround(3 * r))));
+  const int skip = std::min(back - 2, static_cast<int>(std::lround(r)));
+  if (back < 2) return;
+  cv::Point2f dir = cv::Point2f(line[n - 1 - skip]) - cv::Point2f(line[n - 1 - back]);
+  const float len = std::hypot(dir.x, dir.y);
+  if (len < 1) return;
+  dir *= 1.0f / len;
+  // The bent tip is replaced: extend straight on from where the chord ends.
+  const cv::Point2f start(line[n - 1 - skip]);
+  const float tip_radius = radius.back();
+  line.resize(n - skip);
+  radius.resize(n - skip);
+  const int max_steps = static_cast<int>(std::ceil(2 * r)) + 2 + skip;
+  auto inside = [&](cv::Point p) { return p.x >= 0 && p.y >= 0 && p.x < mask.cols && p.y < mask.rows; };
+  std::vector<cv::Point> ext;
+  bool reached_border = false;
+  for (int k = 1; k <= max_steps; ++k) {
+    const cv::Point p(start + dir * static_cast<float>(k));  // rounds to the nearest pixel
+    if (!inside(p)) {
+      reached_border = true;
+      break;
+    }
+    if (!mask.ptr<uint8_t>(p.y)[p.x]) break;
+    ext.push_back(p);
+  }
+  if (!reached_border) {  // stop half a radius inside the edge
+    const size_t keep = ext.size() - std::min(ext.size(), static_cast<size_t>(std::lround(tip_radius / 2)));
+    ext.resize(keep);
+  }
+  for (const cv::Point& p : ext) append_connected(line, p);
+  radius.resize(line.size(), tip_radius);
+}
+
+}  // namespace
+
+void extend_ends(std::vector<Dlo>& dlos, const cv::Mat& mask, float r) {
+  for (Dlo& dlo : dlos) {
+    if (dlo.closed || dlo.centerline.size() < 3) continue;
+    extend_tail(dlo.centerline, dlo.radius, mask, r);
+    std::reverse(dlo.centerline.begin(), dlo.centerline.end());
+    std::reverse(dlo.radius.begin(), dlo.radius.end());
+    extend_tail(dlo.centerline, dlo.radius, mask, r);
+    std::reverse(dlo.centerline.begin(), dlo.centerline.end());
+    std::reverse(dlo.radius.begin(), dlo.radius.end());
+  }
 }
 
 }  // namespace mbest

@@ -46,6 +46,22 @@ TEST(Detector, StraightRodIsOneOpenDloEndToEnd) {
   EXPECT_FALSE(d.timings.empty());
 }
 
+TEST(Detector, CenterlineReachesTheTipsOfAFlatEndedRod) {
+  // Thinning stops a flat end's skeleton about a radius short, forked into the corners.
+  cv::Mat mask = cv::Mat::zeros(120, 300, CV_8UC1);
+  cv::rectangle(mask, {20, 52}, {280, 68}, 255, -1);  // 17 px wide, radius 9
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.value().dlos.size(), 1u);
+  const auto& line = r.value().dlos[0].centerline;
+  const int left = std::min(line.front().x, line.back().x), right = std::max(line.front().x, line.back().x);
+  EXPECT_LE(left, 20 + 9) << "within a radius of the left tip";
+  EXPECT_GE(left, 20);
+  EXPECT_GE(right, 280 - 9) << "within a radius of the right tip";
+  EXPECT_LE(right, 280);
+  for (const cv::Point& p : line) EXPECT_NEAR(p.y, 60, 1) << p;
+}
+
 TEST(Detector, XCrossingIsTwoDlosAndOneCrossing) {
   for (double angle : {90.0, 50.0, 25.0}) {
     std::vector<cv::Mat> gt;

@@ -21,4 +21,11 @@ struct Traversal {
 Traversal traverse(const SkeletonGraph& graph, const std::vector<Passage>& passages,
                    double min_length);
 
+// Thinning leaves a skeleton end about a radius short of the DLO's tip, and bent towards a
+// corner of a flat tip over its last r px. Replaces those r px of each end of an open DLO
+// by a straight run along the chord from 3 r to r px before the end, through `mask`, at
+// most 2 r + 2 px beyond the old end: to the image border if it gets there, else to half a
+// radius short of the mask's edge, between where a flat and a round tip end.
+void extend_ends(std::vector<Dlo>& dlos, const cv::Mat& mask, float r);
+
 }  // namespace mbest
