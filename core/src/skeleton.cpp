@@ -80,23 +80,29 @@ Skeleton skeletonize(const cv::Mat& mask) {
   const ptrdiff_t offs[8] = {-s, -s + 1, 1, s + 1, s, s - 1, -1, -s - 1};
 
   // Only pixels on the boundary can be deleted; start with them and, after each
-  // sub-iteration, add the foreground neighbours of what was deleted.
+  // sub-iteration, add the foreground neighbours of what was deleted. A pixel is on the
+  // boundary when it is set and not all of its 8 neighbours are: one AND over three rows,
+  // which the compiler vectorises, then a pass that skips empty stretches 8 bytes at a time.
   std::vector<ptrdiff_t> candidates;
+  std::vector<uint8_t> boundary(static_cast<size_t>(mask.cols) + 9, 0);
   for (int y = 1; y <= mask.rows; ++y) {
-    uint8_t* row = data + y * step;
+    const uint8_t* a = data + (y - 1) * step;
+    uint8_t* b = data + y * step;
+    const uint8_t* c = data + (y + 1) * step;
+    uint8_t* out = boundary.data();
     for (int x = 1; x <= mask.cols; ++x) {
-      if (x + 8 <= mask.cols) {  // most of an image is background: skip it 8 bytes at a time
-        uint64_t word;
-        std::memcpy(&word, row + x, sizeof word);
-        if (word == 0) {
-          x += 7;
-          continue;
+      const uint8_t all = a[x - 1] & a[x] & a[x + 1] & b[x - 1] & b[x + 1] & c[x - 1] & c[x] & c[x + 1];
+      out[x] = static_cast<uint8_t>(b[x] & ~all & 1);
+    }
+    for (int x = 1; x <= mask.cols; x += 8) {
+      uint64_t word;
+      std::memcpy(&word, out + x, sizeof word);
+      if (word == 0) continue;
+      for (int k = x; k < x + 8 && k <= mask.cols; ++k)
+        if (out[k]) {
+          b[k] |= kQueued;
+          candidates.push_back(y * s + k);
         }
-      }
-      if (row[x] && neighbour_code(row + x, step) != 0xFF) {
-        row[x] |= kQueued;
-        candidates.push_back(y * s + x);
-      }
     }
   }
 
