@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include <nlohmann/json.hpp>
 
@@ -104,6 +105,28 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
   return tops;
 }
 
+// Every DetectorConfig field with its accepted range: one table for the JSON reader and for
+// detect()'s own check.
+struct ConfigField {
+  const char* name;
+  double DetectorConfig::*member;
+  double lo, hi;
+};
+constexpr ConfigField kConfigFields[] = {
+    {"min_dlo_length_radii", &DetectorConfig::min_dlo_length_radii, 0, 1000},
+    {"cut_radii", &DetectorConfig::cut_radii, 0, 100},
+    {"fit_radii", &DetectorConfig::fit_radii, 0.5, 100},
+    {"merge_radii", &DetectorConfig::merge_radii, 0, 100},
+    {"epsilon_radii", &DetectorConfig::epsilon_radii, 0, 1000},
+    {"wide_radii", &DetectorConfig::wide_radii, 0, 1000},
+    {"half_resolution_radius", &DetectorConfig::half_resolution_radius, 0, 1000}};
+
+std::string out_of_range(const ConfigField& f, const std::string& value) {
+  char range[64];
+  std::snprintf(range, sizeof range, "[%g, %g]", f.lo, f.hi);
+  return std::string("detector config: field \"") + f.name + "\" = " + value + " is outside " + range;
+}
+
 }  // namespace
 
 Result<DetectorConfig> parse_detector_config(const std::string& json_text) {
@@ -115,29 +138,15 @@ Result<DetectorConfig> parse_detector_config(const std::string& json_text) {
   }
   if (!j.is_object()) return Error{"detector config: expected a JSON object of fields"};
   DetectorConfig c;
-  struct Field {
-    const char* name;
-    double* value;
-    double lo, hi;
-  };
-  const Field fields[] = {{"min_dlo_length_radii", &c.min_dlo_length_radii, 0, 1000},
-                          {"cut_radii", &c.cut_radii, 0, 100},
-                          {"fit_radii", &c.fit_radii, 0.5, 100},
-                          {"merge_radii", &c.merge_radii, 0, 100},
-                          {"epsilon_radii", &c.epsilon_radii, 0, 1000},
-                          {"wide_radii", &c.wide_radii, 0, 1000},
-                          {"half_resolution_radius", &c.half_resolution_radius, 0, 1000}};
   for (const auto& [key, value] : j.items()) {
-    const Field* f = nullptr;
-    for (const Field& candidate : fields)
+    const ConfigField* f = nullptr;
+    for (const ConfigField& candidate : kConfigFields)
       if (key == candidate.name) f = &candidate;
     if (!f) return Error{"detector config: unknown field \"" + key + "\""};
     if (!value.is_number()) return Error{"detector config: field \"" + key + "\" must be a number"};
     const double v = value.get<double>();
-    if (!(v >= f->lo && v <= f->hi))
-      return Error{"detector config: field \"" + key + "\" = " + value.dump() + " is outside [" +
-                   std::to_string(f->lo) + ", " + std::to_string(f->hi) + "]"};
-    *f->value = v;
+    if (!(v >= f->lo && v <= f->hi)) return Error{out_of_range(*f, value.dump())};
+    c.*(f->member) = v;
   }
   return c;
 }
@@ -157,10 +166,14 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   if (!bgr.empty() && bgr.size() != mask.size())
     return Error{"mask is " + std::to_string(mask.cols) + "x" + std::to_string(mask.rows) +
                  " but the image is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows)};
-  if (config.min_dlo_length_radii < 0 || config.cut_radii < 0 || config.fit_radii <= 0 ||
-      config.merge_radii < 0 || config.epsilon_radii < 0 || config.wide_radii < 0 ||
-      config.half_resolution_radius < 0)
-    return Error{"detector config: lengths must be positive"};
+  for (const ConfigField& f : kConfigFields) {
+    const double v = config.*(f.member);
+    if (!(v >= f.lo && v <= f.hi)) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%g", v);
+      return Error{out_of_range(f, value)};
+    }
+  }
 
   Detection det;
   StageClock stage(det.timings);
@@ -195,14 +208,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return traverse(graph, passages, config.min_dlo_length_radii * r);
   });
   if (half)
-    stage("full_resolution", [&] {
-      to_full_resolution(traversal, passages, regions, mask);
-      return 0;
-    });
-  stage("extend_ends", [&] {
-    extend_ends(traversal.dlos, mask, half ? 2 * r : r);
-    return 0;
-  });
+    stage("full_resolution", [&] { to_full_resolution(traversal, passages, regions, mask); });
+  stage("extend_ends", [&] { extend_ends(traversal.dlos, mask, half ? 2 * r : r); });
   auto ordered = stage("crossing_order", [&] {
     return order_crossings(passages, static_cast<int>(regions.size()), bgr);
   });

@@ -239,7 +239,14 @@ TEST(Detector, BadInputIsAnErrorNamingTheProblem) {
 
   DetectorConfig bad;
   bad.fit_radii = 0;
-  EXPECT_FALSE(detect(cv::Mat::zeros(10, 10, CV_8UC1), cv::Mat(), bad).ok());
+  auto bad_config = detect(cv::Mat::zeros(10, 10, CV_8UC1), cv::Mat(), bad);
+  ASSERT_FALSE(bad_config.ok());
+  EXPECT_NE(bad_config.error().message.find("fit_radii"), std::string::npos);
+  DetectorConfig negative;
+  negative.merge_radii = -1;
+  auto negative_config = detect(cv::Mat::zeros(10, 10, CV_8UC1), cv::Mat(), negative);
+  ASSERT_FALSE(negative_config.ok());
+  EXPECT_NE(negative_config.error().message.find("merge_radii"), std::string::npos);
 }
 
 }  // namespace
