@@ -1,7 +1,8 @@
 // Crossing order: which strand lies on top at each crossing. Along the strand on top the
 // colour is that of one DLO; along the one below it changes where the top one covers it.
 // So the strand whose path has the lower colour spread (sum over R, G, B of the standard
-// deviation along the path, on a 5x5 box-blurred image to ignore glare) is on top.
+// deviation along the path, on a box-blurred image to ignore glare: the paper's 5x5 box,
+// smaller for thin DLOs) is on top.
 #pragma once
 
 #include <vector>

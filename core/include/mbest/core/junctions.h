@@ -19,7 +19,7 @@ struct CrossingRegion {
 };
 
 // Groups the junction nodes of `graph`:
-// 1. junctions joined by a branch no longer than `merge_length` (about one radius) are one
+// 1. junctions joined by a branch no longer than `merge_length` (the detector passes 2 r) are one
 //    crossing (three DLOs through one point give several such small junctions);
 // 2. a branch that leaves and re-enters the same crossing within 4 `merge_length` is inside
 //    it (a hole in the mask makes such a small cycle);
