@@ -75,8 +75,8 @@ Verdict check(const SceneSpec& spec);
 //     pixels are distinct 8-neighbours; a ring also across its seam), labelled where on the
 //     mask; one radius per pixel. A pixel may recur: a self-crossing passes it twice.
 //   ring: one closed rod fully inside the picture -> one closed DLO.
-//   triple: three rods through one point -> three DLOs, pairing correct at every GT crossing
-//     the metric can assess.
+//   triple: three rods through one point (and no crossing under 20 deg elsewhere) -> three
+//     DLOs, pairing correct at every GT crossing the metric can assess.
 constexpr double kMinRodDice = 0.97;
 constexpr double kArcJitterWidths = 0.5;
 constexpr double kMaxEquivarianceDisagreement = 0.01;
