@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include <opencv2/imgproc.hpp>
+
 namespace mbest {
 namespace {
 
@@ -61,6 +63,7 @@ BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double c
   const int cut = std::min(static_cast<int>(std::lround(cut_length)), usable - 1);
   const int last = std::min(usable - 1, cut + std::max(2, static_cast<int>(std::lround(fit_length))));
   t.cut = cut;
+  t.last = last;
   t.point = cv::Point2f(px(cut));
 
   // Total least squares line through px(cut..last).
@@ -95,6 +98,44 @@ BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double c
   return t;
 }
 
+void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& bgr, float scale,
+                          BranchTangent* t) {
+  const Branch& b = g.branches[end.branch];
+  const int n = static_cast<int>(b.pixels.size());
+  if (bgr.empty() || n == 0) return;
+  auto px = [&](int i) { return end.side == 0 ? b.pixels[i] : b.pixels[n - 1 - i]; };
+  const cv::Point2f normal(-t->direction.y, t->direction.x);
+  const float offset = 0.5f * t->radius;
+  cv::Mat samples(1, 3 * (t->last - t->cut + 1), CV_8UC3);
+  int count = 0;
+  for (int i = t->cut; i <= t->last && i < n; ++i) {
+    for (const float s : {-offset, 0.f, offset}) {
+      const cv::Point2f q = (cv::Point2f(px(i)) + normal * s) * scale + cv::Point2f(0.5f, 0.5f) * (scale - 1);
+      const int x = cvRound(q.x), y = cvRound(q.y);
+      if (x < 0 || y < 0 || x >= bgr.cols || y >= bgr.rows) continue;
+      samples.at<cv::Vec3b>(0, count++) = bgr.at<cv::Vec3b>(y, x);
+    }
+  }
+  if (count == 0) return;
+  cv::Mat lab;
+  samples.colRange(0, count).convertTo(lab, CV_32FC3, 1.0 / 255);
+  cv::cvtColor(lab, lab, cv::COLOR_BGR2Lab);
+  std::vector<float> channel(count);
+  for (int c = 0; c < 3; ++c) {
+    for (int k = 0; k < count; ++k) channel[k] = lab.at<cv::Vec3f>(0, k)[c];
+    t->colour[c] = middle_value(channel);
+  }
+  t->has_colour = true;
+}
+
+double colour_penalty(const BranchTangent& a, const BranchTangent& b) {
+  if (!a.has_colour || !b.has_colour) return 0;
+  const cv::Vec3f d = a.colour - b.colour;
+  const double distance = std::sqrt(0.25 * d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  const double excess = (distance - kColourTolerance) / (2 * kColourTolerance);
+  return kColourPenaltyMax * std::clamp(excess, 0.0, 1.0);
+}
+
 double discrete_curvature(cv::Point2f t1, cv::Point2f t2) {
   const double cross = std::abs(static_cast<double>(t1.x) * t2.y - static_cast<double>(t1.y) * t2.x);
   const double dot = static_cast<double>(t1.x) * t2.x + static_cast<double>(t1.y) * t2.y;
@@ -114,12 +155,15 @@ double bending_energy(const BranchTangent& in, const BranchTangent& out) {
   return k1 * k1 + k2 * k2;
 }
 
-std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits) {
+std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
+                                                    double colour_weight) {
   const int n = static_cast<int>(exits.size());
   std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b)
-      e[a][b] = e[b][a] = 0.5 * (bending_energy(exits[a], exits[b]) + bending_energy(exits[b], exits[a]));
+      e[a][b] = e[b][a] =
+          0.5 * (bending_energy(exits[a], exits[b]) + bending_energy(exits[b], exits[a])) +
+          colour_weight * colour_penalty(exits[a], exits[b]);
 
   std::vector<std::pair<int, int>> best;
   if (n <= 10) {
@@ -148,7 +192,8 @@ std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTang
 namespace mbest {
 
 std::vector<Passage> build_passages(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
-                                    double cut_length, double fit_length) {
+                                    double cut_length, double fit_length, const cv::Mat& bgr,
+                                    float scale, double colour_weight) {
   std::vector<Passage> passages;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
     const CrossingRegion& region = regions[r];
@@ -158,8 +203,10 @@ std::vector<Passage> build_passages(const SkeletonGraph& g, const std::vector<Cr
       const Branch& b = g.branches[e.branch];
       const bool shared = g.nodes[b.node[1 - e.side]].kind == Node::Kind::junction;
       tangents.push_back(fit_branch_tangent(g, e, cut_length, fit_length, shared));
+      if (colour_weight > 0 && region.exits.size() > 2)
+        sample_branch_colour(g, e, bgr, scale, &tangents.back());
     }
-    for (const auto& [i, j] : min_energy_pairing(tangents)) {
+    for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
       Passage p;
       p.region = r;
       p.from = region.exits[i];

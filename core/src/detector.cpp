@@ -119,7 +119,8 @@ constexpr ConfigField kConfigFields[] = {
     {"merge_radii", &DetectorConfig::merge_radii, 0, 100},
     {"epsilon_radii", &DetectorConfig::epsilon_radii, 0, 1000},
     {"wide_radii", &DetectorConfig::wide_radii, 0, 1000},
-    {"half_resolution_radius", &DetectorConfig::half_resolution_radius, 0, 1000}};
+    {"half_resolution_radius", &DetectorConfig::half_resolution_radius, 0, 1000},
+    {"colour_weight", &DetectorConfig::colour_weight, 0, 100}};
 
 std::string out_of_range(const ConfigField& f, const std::string& value) {
   char range[64];
@@ -202,7 +203,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
                            config.wide_radii * r);
   });
   auto passages = stage("bending", [&] {
-    return build_passages(graph, regions, config.cut_radii * r, config.fit_radii * r);
+    return build_passages(graph, regions, config.cut_radii * r, config.fit_radii * r, bgr,
+                          half ? 2.f : 1.f, config.colour_weight);
   });
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);

@@ -62,5 +62,43 @@ TEST(Bending, OddExitCountLeavesTheEndingStrandUnpaired) {
   EXPECT_EQ(std::max(pairs[0].first, pairs[0].second), 1);
 }
 
+BranchTangent coloured(BranchTangent t, cv::Vec3f lab) {
+  t.has_colour = true;
+  t.colour = lab;
+  return t;
+}
+
+TEST(Bending, ColourPenaltyIgnoresSmallDifferencesAndMissingColour) {
+  const BranchTangent red = coloured(exit_at(0), {50, 60, 40});
+  EXPECT_EQ(colour_penalty(red, red), 0);
+  EXPECT_EQ(colour_penalty(red, exit_at(90)), 0) << "no colour on one side: geometry alone";
+  // Lightness counts half: shading along one DLO changes it more than hue.
+  EXPECT_EQ(colour_penalty(red, coloured(exit_at(0), {50 + 2 * kColourTolerance, 60, 40})), 0);
+  EXPECT_EQ(colour_penalty(red, coloured(exit_at(0), {50, 60 + kColourTolerance, 40})), 0);
+  const double half = colour_penalty(red, coloured(exit_at(0), {50, 60 + 2 * kColourTolerance, 40}));
+  EXPECT_NEAR(half, kColourPenaltyMax / 2, 1e-4);
+  const BranchTangent blue = coloured(exit_at(0), {40, 10, -50});
+  EXPECT_EQ(colour_penalty(red, blue), kColourPenaltyMax) << "capped";
+}
+
+TEST(Bending, ColourDecidesBetweenPairingsGeometryCannotTellApart) {
+  // Three exits nearly evenly spread plus one: by bending alone the red strand turning
+  // 100 degrees and the blue one turning 80 are close calls; colour settles them.
+  const cv::Vec3f red{50, 60, 40}, blue{40, 10, -50};
+  const std::vector<BranchTangent> exits{coloured(exit_at(0), red), coloured(exit_at(100), blue),
+                                         coloured(exit_at(180), blue), coloured(exit_at(260), red)};
+  // Geometry alone pairs 0 with 2 (straight on).
+  auto plain = min_energy_pairing(exits);
+  ASSERT_EQ(plain.size(), 2u);
+  for (auto [a, b] : plain) EXPECT_EQ(std::abs(a - b), 2);
+  auto with_colour = min_energy_pairing(exits, 2.0);
+  ASSERT_EQ(with_colour.size(), 2u);
+  for (auto [a, b] : with_colour) EXPECT_EQ(exits[a].colour, exits[b].colour) << a << "-" << b;
+  // Same colour everywhere: colour changes nothing.
+  std::vector<BranchTangent> grey = exits;
+  for (BranchTangent& t : grey) t.colour = {50, 0, 0};
+  EXPECT_EQ(min_energy_pairing(grey, 2.0), plain);
+}
+
 }  // namespace
 }  // namespace mbest

@@ -18,7 +18,12 @@ struct BranchTangent {
   cv::Point2f point;      // the branch pixel where the path through the crossing attaches
   cv::Point2f direction;  // unit, pointing away from the crossing
   int cut = 0;            // pixels of the branch (from the crossing side) the path replaces
+  int last = 0;           // the last fitted pixel, counted like `cut`
   float radius = 0;       // median radius of the fitted stretch
+  // The branch's colour over the fitted stretch (CIE Lab, L in [0, 100]), when an image was
+  // given: strands keep their colour through a crossing, so it is a pairing cue.
+  bool has_colour = false;
+  cv::Vec3f colour;
 };
 
 // Fits the tangent of `end`'s branch: the skeleton near a junction bends towards it, so
@@ -38,10 +43,27 @@ double discrete_curvature(cv::Point2f t1, cv::Point2f t2);
 // kappa_out^2. It accounts for both the turn and the sideways offset of the two branches.
 double bending_energy(const BranchTangent& in, const BranchTangent& out);
 
-// The pairing of exits (indices into `exits`) with the least total energy. With an odd
-// number of exits one is left unpaired (the strand that ends there). Exhaustive up to 10
-// exits (945 pairings), greedy beyond.
-std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits);
+// Samples `bgr` along the stretch `t` was fitted to, at the skeleton pixels and half a
+// radius to either side of them (highlights sit in the middle of a tube), and stores the
+// per-channel median in CIE Lab in t->colour. `scale` maps graph pixels to image pixels
+// (2 when the graph was traced at half resolution).
+void sample_branch_colour(const SkeletonGraph& graph, BranchEnd end, const cv::Mat& bgr,
+                          float scale, BranchTangent* t);
+
+// What pairing two exits of different colour costs, in units of bending energy: 0 up to a
+// colour difference of `kColourTolerance` (Lab units, lightness counted half: shading and
+// highlights change lightness along one DLO more than hue), then growing linearly to
+// `kColourPenaltyMax` at three tolerances. 0 when either exit has no colour.
+inline constexpr double kColourTolerance = 10.0;
+inline constexpr double kColourPenaltyMax = 4.0;
+double colour_penalty(const BranchTangent& a, const BranchTangent& b);
+
+// The pairing of exits (indices into `exits`) with the least total cost: bending energy
+// plus `colour_weight` times the colour penalty. With an odd number of exits one is left
+// unpaired (the strand that ends there). Exhaustive up to 10 exits (945 pairings), greedy
+// beyond.
+std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
+                                                    double colour_weight = 0);
 
 }  // namespace mbest
 
@@ -60,9 +82,13 @@ struct Passage {
 // The bending stage: for every crossing region, the tangents of its exits and the pairing
 // of least total energy; one Passage per pair (a region with two exits, a bend the
 // skeleton made into a junction, gets its single forced passage). Tangents skip `cut_length`
-// px next to the crossing and are fitted over the next `fit_length` px.
+// px next to the crossing and are fitted over the next `fit_length` px. With an image
+// (`bgr` not empty, graph pixels times `scale` = image pixels) and `colour_weight` > 0,
+// exits of different colour are paired reluctantly (colour_penalty).
 std::vector<Passage> build_passages(const SkeletonGraph& graph,
                                     const std::vector<CrossingRegion>& regions,
-                                    double cut_length, double fit_length);
+                                    double cut_length, double fit_length,
+                                    const cv::Mat& bgr = cv::Mat(), float scale = 1,
+                                    double colour_weight = 0);
 
 }  // namespace mbest

@@ -59,6 +59,9 @@ struct DetectorConfig {
   // 1.7x faster, strict DICE 0.05-0.07 points lower; shallow crossings and tight loops of
   // narrower DLOs are resolved less reliably. 0 = always full resolution.
   double half_resolution_radius = 0.0;
+  // With the colour image: how much a colour change between two exits of a crossing weighs
+  // against pairing them (bending.h, colour_penalty). 0 = geometry alone, as in the paper.
+  double colour_weight = 2.0;
 };
 
 // Reads a DetectorConfig from a JSON object of the fields above (all optional). Unknown
