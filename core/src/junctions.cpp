@@ -2,6 +2,7 @@
 #include "mbest/core/median.h"
 
 #include <algorithm>
+#include <functional>
 #include <numeric>
 
 namespace mbest {
@@ -44,6 +45,103 @@ bool wider_than_neighbours(const SkeletonGraph& g, int i, double reach) {
   return typical > 0 && mean >= 1.25 * typical;
 }
 
+// Ys still unpaired after Y-pair matching whose joining path runs through other crossings:
+// a loop or a third strand lying across a crossing splits one topological crossing into a
+// Y, an X and a Y. Each Y alone would end a strand in the middle of the mask. The crossings
+// along the shortest such path through even crossings are one crossing when the path is as
+// short as Y-pair matching asks of a single branch: `epsilon`, or `wide_length` if every
+// branch on it is wider than the DLOs around (`wide`). Closest pairs first, each Y once.
+// `degree` is kept up to date for the union-find roots.
+void pair_ys_through_crossings(SkeletonGraph& g, UnionFind& uf, std::vector<int>& degree,
+                               const std::vector<bool>& wide, double epsilon, double wide_length) {
+  const int n_nodes = static_cast<int>(g.nodes.size());
+  // Junction-to-junction branches between different crossings, by crossing (root).
+  std::vector<std::vector<int>> incident(n_nodes);
+  for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
+    const Branch& b = g.branches[i];
+    if (!b.alive || !joins_junctions(g, b)) continue;
+    const int r0 = uf.find(b.node[0]), r1 = uf.find(b.node[1]);
+    if (r0 == r1) continue;
+    incident[r0].push_back(i);
+    incident[r1].push_back(i);
+  }
+  struct Path {
+    double length;
+    int from, to;
+    std::vector<int> branches;
+  };
+  std::vector<Path> paths;
+  std::vector<double> dist(n_nodes);
+  std::vector<int> via(n_nodes);
+  const auto other_end = [&](const Branch& b, int root) {
+    return uf.find(b.node[0]) == root ? uf.find(b.node[1]) : uf.find(b.node[0]);
+  };
+  // Dijkstra over crossings from `start` along branches `usable` and no longer than `limit`
+  // in all, entering odd crossings but not passing them.
+  const auto search = [&](int start, double limit, bool wide_only) {
+    std::fill(dist.begin(), dist.end(), limit + 1);
+    std::fill(via.begin(), via.end(), -1);
+    dist[start] = 0;
+    std::vector<std::pair<double, int>> heap{{0.0, start}};
+    while (!heap.empty()) {
+      std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+      const auto [d, r] = heap.back();
+      heap.pop_back();
+      if (d > dist[r]) continue;
+      if (r != start && degree[r] % 2 == 1) {
+        if (r > start) {  // each pair once
+          Path p{d, start, r, {}};
+          for (int at = r; at != start; at = other_end(g.branches[via[at]], at))
+            p.branches.push_back(via[at]);
+          // A single joining branch was Y-pair matching's to take.
+          if (p.branches.size() > 1) paths.push_back(std::move(p));
+        }
+        continue;
+      }
+      for (int i : incident[r]) {
+        if (wide_only && !wide[i]) continue;
+        const int next = other_end(g.branches[i], r);
+        const double nd = d + g.branches[i].length;
+        if (nd <= limit && nd < dist[next]) {
+          dist[next] = nd;
+          via[next] = i;
+          heap.push_back({nd, next});
+          std::push_heap(heap.begin(), heap.end(), std::greater<>());
+        }
+      }
+    }
+  };
+  for (int start = 0; start < n_nodes; ++start) {
+    if (uf.find(start) != start || degree[start] % 2 == 0 || incident[start].empty()) continue;
+    search(start, epsilon, false);
+    if (wide_length > epsilon) search(start, wide_length, true);
+  }
+  std::stable_sort(paths.begin(), paths.end(),
+                   [](const Path& a, const Path& b) { return a.length < b.length; });
+  for (const Path& p : paths) {
+    const int a = uf.find(p.from), b = uf.find(p.to);
+    if (a == b || degree[a] % 2 == 0 || degree[b] % 2 == 0) continue;
+    bool intact = true;  // every branch still joins two different crossings
+    for (int i : p.branches) {
+      const Branch& br = g.branches[i];
+      intact = intact && br.alive && uf.find(br.node[0]) != uf.find(br.node[1]);
+    }
+    if (!intact) continue;
+    std::vector<int> roots;
+    for (int i : p.branches)
+      for (int s = 0; s < 2; ++s) roots.push_back(uf.find(g.branches[i].node[s]));
+    std::sort(roots.begin(), roots.end());
+    roots.erase(std::unique(roots.begin(), roots.end()), roots.end());
+    int total = 0;
+    for (int r : roots) total += degree[r];
+    for (int i : p.branches) {
+      uf.unite(g.branches[i].node[0], g.branches[i].node[1]);
+      g.branches[i].alive = false;
+    }
+    degree[uf.find(p.from)] = total - 2 * static_cast<int>(p.branches.size());
+  }
+}
+
 }  // namespace
 
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_length, double epsilon,
@@ -82,12 +180,12 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
 
   // Y-pair matching: odd crossings joined by one branch, shortest first, each paired once.
   std::vector<int> order;
+  std::vector<bool> wide(g.branches.size(), false);
   for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
     const Branch& b = g.branches[i];
-    if (b.alive && joins_junctions(g, b) &&
-        (b.length <= epsilon ||
-         (b.length <= wide_length && wider_than_neighbours(g, i, 3 * merge_length))))
-      order.push_back(i);
+    if (!b.alive || !joins_junctions(g, b)) continue;
+    wide[i] = b.length <= wide_length && wider_than_neighbours(g, i, 3 * merge_length);
+    if (b.length <= epsilon || wide[i]) order.push_back(i);
   }
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return g.branches[a].length < g.branches[b].length; });
@@ -103,6 +201,7 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
     make_inner(b);
   }
   degree_of(degree);
+  pair_ys_through_crossings(g, uf, degree, wide, epsilon, wide_length);
 
   std::vector<int> region_of(n_nodes, -1);
   std::vector<CrossingRegion> regions;

@@ -46,5 +46,20 @@ TEST(Junctions, ThreeRodsThroughOnePointAreOneCrossingOfSixExits) {
   EXPECT_EQ(regions[0].exits.size(), 6u);
 }
 
+TEST(Junctions, YsWithACrossingBetweenThemAreOneCrossing) {
+  // Two rods crossing at 15 degrees overlap over ~100 px; a third rod crosses that overlap
+  // in the middle. The skeleton shows a Y, an X and a Y, the Ys joined only through the X:
+  // all three are one crossing of six exits, or the shallow pair would end in the mask.
+  for (double angle : {12.0, 15.0}) {
+    cv::Mat mask = cv::Mat::zeros(300, 500, CV_8UC1);
+    test::draw_rod(mask, test::line_through({250, 150}, 0, 460), 13);
+    test::draw_rod(mask, test::line_through({250, 150}, angle, 460), 13);
+    test::draw_rod(mask, test::line_through({250, 150}, 90, 260), 13);
+    auto regions = regions_of(mask);
+    ASSERT_EQ(regions.size(), 1u) << "angle " << angle;
+    EXPECT_EQ(regions[0].exits.size(), 6u) << "angle " << angle;
+  }
+}
+
 }  // namespace
 }  // namespace mbest
