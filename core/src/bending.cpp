@@ -64,6 +64,7 @@ BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double c
   const int last = std::min(usable - 1, cut + std::max(2, static_cast<int>(std::lround(fit_length))));
   t.cut = cut;
   t.last = last;
+  t.reach = usable - 1;
   t.point = cv::Point2f(px(cut));
 
   // Total least squares line through px(cut..last).
@@ -99,18 +100,25 @@ BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double c
 }
 
 void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& bgr, float scale,
-                          BranchTangent* t) {
+                          BranchTangent* t, int stretch) {
   const Branch& b = g.branches[end.branch];
   const int n = static_cast<int>(b.pixels.size());
   if (bgr.empty() || n == 0) return;
-  auto px = [&](int i) { return end.side == 0 ? b.pixels[i] : b.pixels[n - 1 - i]; };
-  const cv::Point2f normal(-t->direction.y, t->direction.x);
+  auto px = [&](int i) {
+    i = std::clamp(i, 0, n - 1);
+    return cv::Point2f(end.side == 0 ? b.pixels[i] : b.pixels[n - 1 - i]);
+  };
+  const int first = t->cut, last = std::min({t->reach, first + stretch, n - 1});
   const float offset = 0.5f * t->radius;
-  cv::Mat samples(1, 3 * (t->last - t->cut + 1), CV_8UC3);
+  cv::Mat samples(1, 3 * std::max(1, last - first + 1), CV_8UC3);
   int count = 0;
-  for (int i = t->cut; i <= t->last && i < n; ++i) {
+  for (int i = first; i <= last; ++i) {
+    const cv::Point2f along = px(i + 2) - px(i - 2);
+    const float norm = std::hypot(along.x, along.y);
+    const cv::Point2f normal = norm > 0 ? cv::Point2f(-along.y, along.x) * (1 / norm)
+                                        : cv::Point2f(-t->direction.y, t->direction.x);
     for (const float s : {-offset, 0.f, offset}) {
-      const cv::Point2f q = (cv::Point2f(px(i)) + normal * s) * scale + cv::Point2f(0.5f, 0.5f) * (scale - 1);
+      const cv::Point2f q = (px(i) + normal * s) * scale + cv::Point2f(0.5f, 0.5f) * (scale - 1);
       const int x = cvRound(q.x), y = cvRound(q.y);
       if (x < 0 || y < 0 || x >= bgr.cols || y >= bgr.rows) continue;
       samples.at<cv::Vec3b>(0, count++) = bgr.at<cv::Vec3b>(y, x);
@@ -204,7 +212,8 @@ std::vector<Passage> build_passages(const SkeletonGraph& g, const std::vector<Cr
       const bool shared = g.nodes[b.node[1 - e.side]].kind == Node::Kind::junction;
       tangents.push_back(fit_branch_tangent(g, e, cut_length, fit_length, shared));
       if (colour_weight > 0 && region.exits.size() > 2)
-        sample_branch_colour(g, e, bgr, scale, &tangents.back());
+        sample_branch_colour(g, e, bgr, scale, &tangents.back(),
+                             static_cast<int>(std::lround(kColourStretchFits * fit_length)));
     }
     for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
       Passage p;

@@ -197,7 +197,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     work = mask;
     graph = trace_skeleton("skeleton_full_resolution", "keypoints_full_resolution");
   }
-  stage("prune", [&] { return prune_split_ends(graph, 2 * r, work.size()); });
+  const ColourSource colour{config.colour_weight > 0 ? bgr : cv::Mat(), half ? 2.f : 1.f, r};
+  stage("prune", [&] { return prune_split_ends(graph, 2 * r, work.size(), colour); });
   auto regions = stage("junctions", [&] {
     return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,
                            config.wide_radii * r);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mbest/core/bending.h"
+
 namespace mbest {
 
 namespace {
@@ -47,9 +49,30 @@ bool is_stub_past_crossing(const SkeletonGraph& g, int i, int end_side, double r
   return false;
 }
 
+// Does the short branch `i` end a DLO lying on another one? A split end forks off one
+// DLO, so the other branches at its junction have one colour; where they differ in colour
+// (colour_penalty > 0), two DLOs meet there and the short branch is a real end.
+bool joins_two_colours(const SkeletonGraph& g, int i, int end_side, const ColourSource& colour) {
+  if (colour.bgr.empty()) return false;
+  const Node& junction = g.nodes[g.branches[i].node[1 - end_side]];
+  std::vector<BranchTangent> others;
+  for (const BranchEnd& e : junction.branch_ends) {
+    const Branch& other = g.branches[e.branch];
+    if (e.branch == i || !other.alive) continue;
+    const bool shared = g.nodes[other.node[1 - e.side]].kind == Node::Kind::junction;
+    others.push_back(fit_branch_tangent(g, e, colour.radius, 3 * colour.radius, shared));
+    sample_branch_colour(g, e, colour.bgr, colour.scale, &others.back(),
+                         static_cast<int>(std::lround(kColourStretchFits * 3 * colour.radius)));
+  }
+  for (size_t a = 0; a < others.size(); ++a)
+    for (size_t b = a + 1; b < others.size(); ++b)
+      if (colour_penalty(others[a], others[b]) > 0) return true;
+  return false;
+}
+
 }  // namespace
 
-int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image) {
+int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image, const ColourSource& colour) {
   std::vector<int> spurs;
   for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
     const Branch& b = g.branches[i];
@@ -64,7 +87,9 @@ int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image) {
   for (int i : spurs) {
     Branch& b = g.branches[i];
     const int end_side = g.nodes[b.node[0]].kind == Node::Kind::end ? 0 : 1;
-    if (leaves_image(g, b, end_side, image) || is_stub_past_crossing(g, i, end_side, delta)) continue;
+    if (leaves_image(g, b, end_side, image) || is_stub_past_crossing(g, i, end_side, delta) ||
+        joins_two_colours(g, i, end_side, colour))
+      continue;
     Node& junction = g.nodes[b.node[1 - end_side]];
     if (junction.degree() < 3) continue;  // would cut a line in two
     b.alive = false;

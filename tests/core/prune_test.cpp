@@ -72,3 +72,51 @@ TEST(Prune, StubOfARodEndingJustPastACrossingStays) {
 
 }  // namespace
 }  // namespace mbest
+
+namespace mbest {
+namespace {
+
+// A thin blue rod comes in at `angle_deg` and ends lying on a wide red one, its tip a few
+// pixels past the red rod's far edge.
+struct EndOnRod {
+  cv::Mat mask, bgr;
+};
+EndOnRod end_on_rod(double angle_deg, const cv::Scalar& blue) {
+  EndOnRod s;
+  s.mask = cv::Mat::zeros(200, 400, CV_8UC1);
+  s.bgr = cv::Mat::zeros(200, 400, CV_8UC3);
+  const double a = angle_deg * M_PI / 180;
+  const cv::Point tip(200, 88);
+  const cv::Point tail(cvRound(200 + 150 * std::cos(a)), cvRound(88 + 150 * std::sin(a)));
+  test::draw_rod(s.mask, {{20, 100}, {380, 100}}, 15);
+  test::draw_rod(s.bgr, {{20, 100}, {380, 100}}, 15, 0);
+  s.bgr.setTo(cv::Scalar(40, 40, 200), s.mask);
+  cv::Mat blue_mask = cv::Mat::zeros(s.mask.size(), CV_8UC1);
+  test::draw_rod(blue_mask, {tail, tip}, 9);
+  s.mask |= blue_mask;
+  s.bgr.setTo(blue, blue_mask);
+  return s;
+}
+
+TEST(Prune, EndOfARodLyingOnAnotherOfAnotherColourStays) {
+  // Where the blue end crosses the red rod's far edge the skeleton forks into a short spur.
+  // By the mask alone it is a split end; the colours of the branches at its junction show
+  // two DLOs meeting there, so it stays (and the red rod is not cut at the blue end).
+  for (double angle : {20.0, 30.0, 45.0, 60.0}) {
+    for (const bool same_colour : {false, true}) {
+      const EndOnRod s = end_on_rod(angle, same_colour ? cv::Scalar(40, 40, 200) : cv::Scalar(200, 90, 30));
+      Skeleton sk = skeletonize(s.mask);
+      SkeletonGraph g = build_skeleton_graph(sk, detect_keypoints(sk));
+      const float r = measure_radii(g, s.mask);
+      SkeletonGraph plain = g;
+      ASSERT_EQ(prune_split_ends(plain, 2 * r, s.mask.size()), 1)
+          << "angle " << angle << ": the scene should make one spur";
+      EXPECT_EQ(prune_split_ends(g, 2 * r, s.mask.size(), ColourSource{s.bgr, 1, r}),
+                same_colour ? 1 : 0)
+          << "angle " << angle << (same_colour ? ", one colour" : ", two colours");
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mbest

@@ -19,6 +19,7 @@ struct BranchTangent {
   cv::Point2f direction;  // unit, pointing away from the crossing
   int cut = 0;            // pixels of the branch (from the crossing side) the path replaces
   int last = 0;           // the last fitted pixel, counted like `cut`
+  int reach = 0;          // the last pixel a fit may use (half a branch shared with a crossing)
   float radius = 0;       // median radius of the fitted stretch
   // The branch's colour over the fitted stretch (CIE Lab, L in [0, 100]), when an image was
   // given: strands keep their colour through a crossing, so it is a pairing cue.
@@ -43,12 +44,17 @@ double discrete_curvature(cv::Point2f t1, cv::Point2f t2);
 // kappa_out^2. It accounts for both the turn and the sideways offset of the two branches.
 double bending_energy(const BranchTangent& in, const BranchTangent& out);
 
-// Samples `bgr` along the stretch `t` was fitted to, at the skeleton pixels and half a
-// radius to either side of them (highlights sit in the middle of a tube), and stores the
-// per-channel median in CIE Lab in t->colour. `scale` maps graph pixels to image pixels
-// (2 when the graph was traced at half resolution).
+// Samples `bgr` along `stretch` px of the branch from where `t` attaches (t->cut, never
+// past t->reach), at the skeleton pixels and half a radius to either side of them
+// (highlights sit in the middle of a tube), and stores the per-channel median in CIE Lab in
+// t->colour. A long stretch outvotes the overlap next to a shallow crossing, where the top
+// strand's colour covers the branch. `scale` maps graph pixels to image pixels (2 when the
+// graph was traced at half resolution).
 void sample_branch_colour(const SkeletonGraph& graph, BranchEnd end, const cv::Mat& bgr,
-                          float scale, BranchTangent* t);
+                          float scale, BranchTangent* t, int stretch);
+// build_passages samples this many tangent-fit lengths (4 x 3 r = 12 r): 3 r and 6 r let
+// the overlap of a 25-35 degree crossing decide a branch's colour.
+inline constexpr double kColourStretchFits = 4.0;
 
 // What pairing two exits of different colour costs, in units of bending energy: 0 up to a
 // colour difference of `kColourTolerance` (Lab units, lightness counted half: shading and
