@@ -1,15 +1,20 @@
 #include "mbest/core/instance_mask.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 
 namespace mbest {
 
 namespace {
 // One padded 16-bit array holds the mask and the labels together, so the search needs no
-// bounds checks and touches one array: kOutside = background or border, 0 = mask pixel not
-// yet reached, otherwise the DLO's id, with kBand set while it is reserved for a top strand.
-constexpr uint16_t kOutside = 0xFFFF;
+// bounds checks and touches one array: kOutside = background or border, kUnreached = mask
+// pixel not yet reached, otherwise the DLO's id, with kBand set while it is reserved for a
+// top strand. Background is 0 so that, once the unreached pixels are cleared, the inside of
+// the array is the label image itself and needs no copy.
+constexpr uint16_t kOutside = 0;
+constexpr uint16_t kUnreached = 0xFFFF;
 constexpr uint16_t kBand = 0x8000;
 }  // namespace
 
@@ -17,68 +22,126 @@ cv::Mat instance_labels(const cv::Mat& mask, const std::vector<Dlo>& dlos,
                         const std::vector<TopStrand>& tops) {
   const int rows = mask.rows, cols = mask.cols, stride = cols + 2;
   cv::Mat buffer(rows + 2, stride, CV_16UC1);
-  std::memset(buffer.ptr(0), 0xFF, buffer.step);  // 0xFFFF = kOutside
-  std::memset(buffer.ptr(rows + 1), 0xFF, buffer.step);
+  std::memset(buffer.ptr(0), 0, buffer.step);  // 0 = kOutside
+  std::memset(buffer.ptr(rows + 1), 0, buffer.step);
+  size_t mask_pixels = 0;
   for (int y = 0; y < rows; ++y) {
     const uint8_t* m = mask.ptr<uint8_t>(y);
     uint16_t* b = buffer.ptr<uint16_t>(y + 1);
     b[0] = b[cols + 1] = kOutside;
-    for (int x = 0; x < cols; ++x) b[x + 1] = m[x] ? 0 : kOutside;
+    unsigned row_count = 0;  // a plain loop the compiler vectorises (cols < 2^32)
+    for (int x = 0; x < cols; ++x) {
+      b[x + 1] = m[x] ? kUnreached : kOutside;
+      row_count += m[x] != 0;
+    }
+    mask_pixels += row_count;
   }
   uint16_t* lab = buffer.ptr<uint16_t>(0);
   auto index = [&](cv::Point p) { return (p.y + 1) * stride + p.x + 1; };
   auto in_image = [&](cv::Point p) { return p.x >= 0 && p.y >= 0 && p.x < cols && p.y < rows; };
 
   // The band of each strand on top is reserved for it: no other DLO's front may enter it.
+  // A band is the union of one disc per path pixel. Consecutive discs overlap almost
+  // entirely, so rather than test every pixel of every disc, each disc is cut into row spans
+  // and, row by row, a span is merged into the row's open span while the two touch; only
+  // closed spans are painted. (Sorting all spans instead cost more than the old disc loop.)
   std::vector<int> band;
+  struct Span {
+    int x0 = 1, x1 = 0;  // inclusive columns; empty while x0 > x1
+  };
+  std::vector<Span> open;
   for (const TopStrand& top : tops) {
     const uint16_t id = static_cast<uint16_t>(top.dlo + 1) | kBand;
+    auto paint = [&](int y, Span sp) {
+      uint16_t* row = lab + (y + 1) * stride + 1;
+      for (int x = sp.x0; x <= sp.x1; ++x) {
+        if (row[x] == kOutside || row[x] == id) continue;  // id: painted by an earlier span
+        row[x] = id;
+        band.push_back((y + 1) * stride + x + 1);
+      }
+    };
+    int y_lo = rows, y_hi = -1;
+    for (size_t k = 0; k < top.path.size(); ++k) {
+      const int ri = static_cast<int>(std::ceil(top.radius[k] - 0.5f));
+      y_lo = std::min(y_lo, top.path[k].y - ri);
+      y_hi = std::max(y_hi, top.path[k].y + ri);
+    }
+    y_lo = std::max(y_lo, 0);
+    y_hi = std::min(y_hi, rows - 1);
+    if (y_lo > y_hi) continue;
+    open.assign(static_cast<size_t>(y_hi - y_lo + 1), Span{});
+    auto add = [&](int y, int x0, int x1) {
+      Span& o = open[y - y_lo];
+      if (o.x0 <= o.x1 && x0 <= o.x1 + 1 && x1 >= o.x0 - 1) {
+        o.x0 = std::min(o.x0, x0);
+        o.x1 = std::max(o.x1, x1);
+        return;
+      }
+      if (o.x0 <= o.x1) paint(y, o);
+      o = {x0, x1};
+    };
     for (size_t k = 0; k < top.path.size(); ++k) {
       const cv::Point c = top.path[k];
       const float rr = top.radius[k] - 0.5f;  // radius is half the width + 0.5 px
       const int ri = static_cast<int>(std::ceil(rr));
-      for (int dy = -ri; dy <= ri; ++dy)
-        for (int dx = -ri; dx <= ri; ++dx) {
-          const cv::Point q(c.x + dx, c.y + dy);
-          if (dx * dx + dy * dy > rr * rr || !in_image(q)) continue;
-          uint16_t& l = lab[index(q)];
-          if (l == kOutside) continue;
-          l = id;
-          band.push_back(index(q));
-        }
+      // Disc pixels: dx * dx + dy * dy <= rr * rr (in float, as ever). The half-width hw of
+      // row dy only shrinks as |dy| grows, so one countdown finds all of them.
+      int hw = ri;
+      for (int dy = 0; dy <= ri; ++dy) {
+        while (hw >= 0 && static_cast<float>(hw * hw + dy * dy) > rr * rr) --hw;
+        if (hw < 0) break;
+        const int x0 = std::max(c.x - hw, 0), x1 = std::min(c.x + hw, cols - 1);
+        if (x0 > x1) continue;
+        if (c.y - dy >= 0 && c.y - dy < rows) add(c.y - dy, x0, x1);
+        if (dy > 0 && c.y + dy >= 0 && c.y + dy < rows) add(c.y + dy, x0, x1);
+      }
     }
+    for (int y = y_lo; y <= y_hi; ++y)
+      if (open[y - y_lo].x0 <= open[y - y_lo].x1) paint(y, open[y - y_lo]);
   }
 
   // Breadth-first search inside the mask from every centerline at once: each pixel goes to
   // the DLO whose centerline front reaches it first. 4-connected fronts score as well as
   // 8-connected ones on the dev set (S2 99.76 vs 99.75 %, S3 99.66 both) at half the cost.
-  std::vector<int> queue;
+  // A pixel is queued at most once (once claimed it is neither unreached nor reserved), so
+  // the queue is sized up front, and claiming is branch-free: whether a neighbour is taken
+  // is unpredictable, and mispredicted branches were most of the search's time. The queue
+  // slot at `tail` is always written and only kept (tail advanced) when the pixel is taken.
+  std::unique_ptr<int[]> queue(new int[mask_pixels + 1]);
+  size_t tail = 0;
   auto claim = [&](int i, uint16_t id) {
     uint16_t& l = lab[i];
-    if (l == 0 || l == (id | kBand)) {
-      l = id;
-      queue.push_back(i);
-    }
+    const bool take = (l == kUnreached) | (l == (id | kBand));
+    l = take ? id : l;
+    queue[tail] = i;
+    tail += take;
   };
   for (size_t d = 0; d < dlos.size(); ++d)
     for (const cv::Point& p : dlos[d].centerline)
       if (in_image(p)) claim(index(p), static_cast<uint16_t>(d + 1));
-  const int offs[4] = {-stride, -1, 1, stride};
-  for (size_t head = 0; head < queue.size(); ++head) {
+  for (size_t head = 0; head < tail; ++head) {
     const int i = queue[head];
     const uint16_t id = lab[i];
-    for (int o : offs) claim(i + o, id);
+    claim(i - stride, id);
+    claim(i - 1, id);
+    claim(i + 1, id);
+    claim(i + stride, id);
   }
 
   // Band pixels no front reached (cut off from their strand) still belong to it.
-  for (int i : band) lab[i] &= static_cast<uint16_t>(~kBand);
-  cv::Mat labels(rows, cols, CV_16UC1);
-  for (int y = 0; y < rows; ++y) {
-    const uint16_t* src = buffer.ptr<uint16_t>(y + 1) + 1;
-    uint16_t* dst = labels.ptr<uint16_t>(y);
-    for (int x = 0; x < cols; ++x) dst[x] = src[x] == kOutside ? 0 : src[x];
-  }
-  return labels;
+  size_t labelled = tail;
+  for (int i : band)
+    if (lab[i] & kBand) {  // unreached band pixels still carry the mark (cleared here, once)
+      lab[i] &= static_cast<uint16_t>(~kBand);
+      ++labelled;
+    }
+  // Mask pixels no centerline reaches are background: only scan for them when there are any.
+  if (labelled < mask_pixels)
+    for (int y = 1; y <= rows; ++y) {
+      uint16_t* b = buffer.ptr<uint16_t>(y);
+      for (int x = 1; x <= cols; ++x) b[x] = b[x] == kUnreached ? kOutside : b[x];
+    }
+  return buffer(cv::Rect(1, 1, cols, rows));
 }
 
 }  // namespace mbest

@@ -21,7 +21,8 @@ struct TopStrand {
 
 // mask: CV_8UC1 (non-zero = DLO). `tops` are painted in order, so later ones cover earlier
 // ones (give them bottom to top). Returns CV_16UC1: 0 outside the mask and on mask pixels no
-// centerline reaches, otherwise DLO index + 1.
+// centerline reaches, otherwise DLO index + 1. The result is a view into a buffer with a
+// one-pixel border (so not continuous; rows are reached with ptr()), which saves a copy.
 cv::Mat instance_labels(const cv::Mat& mask, const std::vector<Dlo>& dlos,
                         const std::vector<TopStrand>& tops);
 
