@@ -2,33 +2,68 @@
 
 #include <algorithm>
 #include <array>
-#include <bitset>
-#include <cstring>
+#include <cstdint>
+#include <vector>
 
-#include <opencv2/imgproc.hpp>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace mbest {
 namespace {
 
-bool bit(int code, int i) { return (code >> i) & 1; }
+constexpr bool bit(int code, int i) { return (code >> i) & 1; }
 
-// Zhang-Suen deletion rules as a table: bit 0 = removable in the first sub-iteration,
-// bit 1 = removable in the second. With Lu and Wang's correction: at least 3 neighbours
-// (not 2), without which a 2-pixel-thick diagonal line is eaten from its end (a straight
-// rod at 46 degrees lost 70 px of skeleton); the staircase pass thins what it leaves.
-std::array<uint8_t, 256> zhang_suen_table() {
-  std::array<uint8_t, 256> lut{};
-  for (int c = 0; c < 256; ++c) {
-    const int b = static_cast<int>(std::bitset<8>(c).count());
-    int a = 0;  // 0 -> 1 transitions around the ring N, NE, ..., NW, N
-    for (int i = 0; i < 8; ++i) a += !bit(c, i) && bit(c, (i + 1) % 8);
-    if (b < 3 || b > 6 || a != 1) continue;
-    const bool n = bit(c, 0), e = bit(c, 2), s = bit(c, 4), w = bit(c, 6);
-    if (!(n && e && s) && !(e && s && w)) lut[c] |= 1;
-    if (!(n && e && w) && !(n && s && w)) lut[c] |= 2;
-  }
-  return lut;
+constexpr int popcount8(int c) {
+  int n = 0;
+  for (int i = 0; i < 8; ++i) n += bit(c, i);
+  return n;
 }
+
+// Zhang-Suen deletion rule for the 8-neighbourhood code `c` (bit order of neighbour_code) in
+// sub-iteration `pass` (0 or 1). With Lu and Wang's correction: at least 3 neighbours (not
+// 2), without which a 2-pixel-thick diagonal line is eaten from its end (a straight rod at 46
+// degrees lost 70 px of skeleton); the staircase pass thins what it leaves.
+constexpr bool zhang_suen_removable(int c, int pass) {
+  const int b = popcount8(c);
+  int a = 0;  // 0 -> 1 transitions around the ring N, NE, ..., NW, N
+  for (int i = 0; i < 8; ++i) a += !bit(c, i) && bit(c, (i + 1) % 8);
+  if (b < 3 || b > 6 || a != 1) return false;
+  const bool n = bit(c, 0), e = bit(c, 2), s = bit(c, 4), w = bit(c, 6);
+  return pass == 0 ? !(n && e && s) && !(e && s && w) : !(n && e && w) && !(n && s && w);
+}
+
+// The same rule evaluated for 64 pixels at once: p[k] holds neighbour k (bit order of
+// neighbour_code) of each pixel of a word. Bit-sliced, the count and transition conditions
+// become: A == 1 (exactly one 0 -> 1 transition around the ring) makes the ones and the zeros
+// each one circular run, so B >= 3 is "three ones in a row somewhere on the ring" and B <= 6
+// is "two zeros in a row somewhere".
+constexpr uint64_t zhang_suen_removable(const uint64_t (&p)[8], int pass) {
+  uint64_t seen = 0, twice = 0, three_ones = 0, all_pairs_hit = ~uint64_t{0};
+  for (int k = 0; k < 8; ++k) {
+    const uint64_t a = p[k], b = p[(k + 1) % 8], c = p[(k + 2) % 8];
+    const uint64_t rise = ~a & b;
+    twice |= seen & rise;
+    seen |= rise;
+    three_ones |= a & b & c;
+    all_pairs_hit &= a | b;
+  }
+  const uint64_t n = p[0], e = p[2], s = p[4], w = p[6];
+  const uint64_t rule = pass == 0 ? ~(n & e & s) & ~(e & s & w) : ~(n & e & w) & ~(n & s & w);
+  return seen & ~twice & three_ones & ~all_pairs_hit & rule;
+}
+
+// Checks, at compile time, the bit-sliced form against the rule for all 256 codes.
+constexpr bool bit_sliced_rule_matches() {
+  for (int c = 0; c < 256; ++c)
+    for (int pass = 0; pass < 2; ++pass) {
+      uint64_t p[8] = {};
+      for (int k = 0; k < 8; ++k) p[k] = bit(c, k) ? 1 : 0;
+      if ((zhang_suen_removable(p, pass) & 1) != zhang_suen_removable(c, pass)) return false;
+    }
+  return true;
+}
+static_assert(bit_sliced_rule_matches(), "bit-sliced Zhang-Suen rule differs from the table");
 
 // A pixel can go without changing 8-connectivity when its neighbours form exactly one
 // 8-connected group (Yokoi's connectivity number equals 1).
@@ -50,117 +85,138 @@ bool is_corner(int c) {
 std::array<uint8_t, 256> staircase_table() {
   std::array<uint8_t, 256> lut{};
   for (int c = 0; c < 256; ++c)
-    lut[c] = std::bitset<8>(c).count() >= 2 && yokoi_8(c) == 1 && is_corner(c);
+    lut[c] = popcount8(c) >= 2 && yokoi_8(c) == 1 && is_corner(c);
   return lut;
 }
 
-// Marks kept in the image beside the foreground bit 1.
-constexpr uint8_t kQueued = 2;  // in the candidate list
-// Evaluated for sub-iteration 1 / 2 (kSettled << pass) and found to stay; cleared when a
-// neighbour goes, since a pixel's fate depends only on its 8 neighbours.
-constexpr uint8_t kSettled = 4;
-constexpr uint8_t kBothSettled = kSettled | kSettled << 1;
+// The mask as bits, 64 pixels a word: pixel (x, y) is bit x % 64 of word
+// (y + 1) * stride + 1 + x / 64. A zero guard row above and below and a zero guard word at
+// both ends of every row make all 8 neighbours of a pixel readable without checks.
+struct BitImage {
+  int stride = 0;
+  std::vector<uint64_t> words;
+};
+
+BitImage pack(const cv::Mat& mask) {
+  BitImage b;
+  const int cols = mask.cols, row_words = (cols + 63) / 64;
+  b.stride = row_words + 2;
+  b.words.assign(static_cast<size_t>(mask.rows + 2) * b.stride, 0);
+  for (int y = 0; y < mask.rows; ++y) {
+    const uint8_t* m = mask.ptr<uint8_t>(y);
+    uint64_t* out = b.words.data() + static_cast<size_t>(y + 1) * b.stride + 1;
+    int x = 0;
+#ifdef __SSE2__
+    // 16 pixels per compare: the sign bits of (byte == 0), inverted, are the foreground bits.
+    const __m128i zero = _mm_setzero_si128();
+    for (; x + 16 <= cols; x += 16) {
+      const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(m + x));
+      const unsigned bits = ~static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, zero))) & 0xFFFFu;
+      out[x / 64] |= static_cast<uint64_t>(bits) << (x % 64);
+    }
+#endif
+    for (; x < cols; ++x) out[x / 64] |= static_cast<uint64_t>(m[x] != 0) << (x % 64);
+  }
+  return b;
+}
 
 }  // namespace
 
 Skeleton skeletonize(const cv::Mat& mask) {
-  static const std::array<uint8_t, 256> kZhangSuen = zhang_suen_table();
   static const std::array<uint8_t, 256> kStaircase = staircase_table();
   CV_Assert(mask.type() == CV_8UC1);
 
-  Skeleton sk;
-  sk.buffer.create(mask.rows + 2, mask.cols + 2, CV_8UC1);
-  uint8_t* data = sk.buffer.data;
-  const size_t step = sk.buffer.step;
-  std::memset(data, 0, step);  // only the border needs zeroing; the inside is overwritten
-  std::memset(data + (mask.rows + 1) * step, 0, step);
-  for (int y = 1; y <= mask.rows; ++y) data[y * step] = data[y * step + mask.cols + 1] = 0;
-  sk.image = sk.buffer(cv::Rect(1, 1, mask.cols, mask.rows));
-  cv::threshold(mask, sk.image, 0, 1, cv::THRESH_BINARY);
-
-  const ptrdiff_t s = static_cast<ptrdiff_t>(step);
-  const ptrdiff_t offs[8] = {-s, -s + 1, 1, s + 1, s, s - 1, -1, -s - 1};
-
-  // Only pixels on the boundary can be deleted; start with them and, after each
-  // sub-iteration, add the foreground neighbours of what was deleted. A pixel is on the
-  // boundary when it is set and not all of its 8 neighbours are: one AND over three rows,
-  // which the compiler vectorises, then a pass that skips empty stretches 8 bytes at a time.
-  std::vector<ptrdiff_t> candidates;
-  std::vector<uint8_t> boundary(static_cast<size_t>(mask.cols) + 9, 0);
-  for (int y = 1; y <= mask.rows; ++y) {
-    const uint8_t* a = data + (y - 1) * step;
-    uint8_t* b = data + y * step;
-    const uint8_t* c = data + (y + 1) * step;
-    uint8_t* out = boundary.data();
-    for (int x = 1; x <= mask.cols; ++x) {
-      const uint8_t all = a[x - 1] & a[x] & a[x + 1] & b[x - 1] & b[x + 1] & c[x - 1] & c[x] & c[x + 1];
-      out[x] = static_cast<uint8_t>(b[x] & ~all & 1);
+  // Zhang-Suen on the bit image: the rule is evaluated for a whole word at once (see
+  // zhang_suen_removable), so a sub-iteration costs about as much per 64 pixels as the byte
+  // version did per pixel. Only words whose 3x3 word neighbourhood changed since their last
+  // evaluation in that sub-iteration are evaluated again: a pixel's fate depends on its 8
+  // neighbours only, so the others would find nothing to delete. dirty[i] bit `pass` says
+  // word i is in todo[pass].
+  BitImage b = pack(mask);
+  uint64_t* w = b.words.data();
+  const ptrdiff_t stride = b.stride;
+  std::vector<uint8_t> dirty(b.words.size(), 0);
+  std::vector<int> todo[2], current;
+  for (size_t i = 0; i < b.words.size(); ++i)
+    if (w[i]) {
+      dirty[i] = 3;
+      todo[0].push_back(static_cast<int>(i));
+      todo[1].push_back(static_cast<int>(i));
     }
-    for (int x = 1; x <= mask.cols; x += 8) {
-      uint64_t word;
-      std::memcpy(&word, out + x, sizeof word);
-      if (word == 0) continue;
-      for (int k = x; k < x + 8 && k <= mask.cols; ++k)
-        if (out[k]) {
-          b[k] |= kQueued;
-          candidates.push_back(y * s + k);
-        }
-    }
-  }
-
-  std::vector<ptrdiff_t> removed, resting;  // resting: left the list, settled for both passes
+  auto mark = [&](ptrdiff_t i) {
+    for (int pass = 0; pass < 2; ++pass)
+      if (!(dirty[i] & (1 << pass))) {
+        dirty[i] |= static_cast<uint8_t>(1 << pass);
+        todo[pass].push_back(static_cast<int>(i));
+      }
+  };
+  std::vector<std::pair<int, uint64_t>> removed;  // word, bits to clear
   bool changed = true;
   while (changed) {
     changed = false;
     for (int pass = 0; pass < 2; ++pass) {
-      const uint8_t settled = static_cast<uint8_t>(kSettled << pass);
+      // Every word is judged on the image as it was before this sub-iteration: deletions
+      // are collected first and applied after.
+      current.swap(todo[pass]);
+      todo[pass].clear();
       removed.clear();
-      size_t kept = 0;
-      for (ptrdiff_t i : candidates) {
-        uint8_t& v = data[i];
-        if (!v) continue;  // deleted in the previous sub-iteration
-        if ((v & kBothSettled) == kBothSettled) {  // stays until a neighbour goes
-          v &= static_cast<uint8_t>(~kQueued);
-          resting.push_back(i);
-          continue;
-        }
-        candidates[kept++] = i;
-        if (v & settled) continue;
-        if (kZhangSuen[neighbour_code(data + i, step)] & (1 << pass))
-          removed.push_back(i);
-        else
-          v |= settled;
+      for (int i : current) {
+        dirty[i] &= static_cast<uint8_t>(~(1 << pass));
+        const uint64_t c = w[i];
+        if (!c) continue;
+        const uint64_t* up = w + i - stride;
+        const uint64_t* down = w + i + stride;
+        const uint64_t p[8] = {
+            up[0],                                   // N
+            (up[0] >> 1) | (up[1] << 63),            // NE: the pixel to the right, one row up
+            (c >> 1) | (w[i + 1] << 63),             // E
+            (down[0] >> 1) | (down[1] << 63),        // SE
+            down[0],                                 // S
+            (down[0] << 1) | (down[-1] >> 63),       // SW
+            (c << 1) | (w[i - 1] >> 63),             // W
+            (up[0] << 1) | (up[-1] >> 63)};          // NW
+        const uint64_t del = c & zhang_suen_removable(p, pass);
+        if (del) removed.emplace_back(i, del);
       }
-      candidates.resize(kept);
       if (removed.empty()) continue;
       changed = true;
-      for (ptrdiff_t i : removed) data[i] = 0;
-      for (ptrdiff_t i : removed)
-        for (ptrdiff_t o : offs) {
-          uint8_t& v = data[i + o];
-          if (!v) continue;
-          v &= static_cast<uint8_t>(~kBothSettled);
-          if (!(v & kQueued)) {
-            v |= kQueued;
-            candidates.push_back(i + o);
-          }
+      for (const auto& [i, del] : removed) w[i] &= ~del;
+      // What changes: this word's row and the rows above and below; the next word only if
+      // its neighbour bit 63 went, the previous one only if bit 0 went.
+      for (const auto& [i, del] : removed)
+        for (ptrdiff_t r : {-stride, ptrdiff_t{0}, stride}) {
+          mark(i + r);
+          if (del & 1) mark(i + r - 1);
+          if (del >> 63) mark(i + r + 1);
         }
     }
   }
 
-  // Every remaining pixel touches the background, so it is in the list or resting.
-  candidates.insert(candidates.end(), resting.begin(), resting.end());
-  std::sort(candidates.begin(), candidates.end());
-  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-  for (ptrdiff_t i : candidates)
-    if (data[i] && kStaircase[neighbour_code(data + i, step)]) data[i] = 0;
-
-  sk.pixels.reserve(candidates.size());
-  for (ptrdiff_t i : candidates) {
-    if (!data[i]) continue;
-    data[i] = 1;
-    sk.pixels.emplace_back(static_cast<int>(i % step) - 1, static_cast<int>(i / step) - 1);
+  // Back to bytes, with a zero border: only the few remaining pixels need writing.
+  Skeleton sk;
+  sk.buffer = cv::Mat::zeros(mask.rows + 2, mask.cols + 2, CV_8UC1);
+  sk.image = sk.buffer(cv::Rect(1, 1, mask.cols, mask.rows));
+  uint8_t* data = sk.buffer.data;
+  const size_t step = sk.buffer.step;
+  std::vector<ptrdiff_t> remaining;  // in raster order
+  for (int y = 0; y < mask.rows; ++y) {
+    const uint64_t* row = w + static_cast<size_t>(y + 1) * stride + 1;
+    for (int k = 0; k < stride - 2; ++k)
+      for (uint64_t bits = row[k]; bits; bits &= bits - 1) {
+        const int x = 64 * k + __builtin_ctzll(bits);
+        const ptrdiff_t i = static_cast<ptrdiff_t>((y + 1) * step + x + 1);
+        data[i] = 1;
+        remaining.push_back(i);
+      }
   }
+
+  // Staircase corners go one by one in raster order, each seeing the deletions before it.
+  for (ptrdiff_t i : remaining)
+    if (kStaircase[neighbour_code(data + i, step)]) data[i] = 0;
+
+  sk.pixels.reserve(remaining.size());
+  for (ptrdiff_t i : remaining)
+    if (data[i]) sk.pixels.emplace_back(static_cast<int>(i % step) - 1, static_cast<int>(i / step) - 1);
   return sk;
 }
 
