@@ -61,5 +61,20 @@ TEST(Junctions, YsWithACrossingBetweenThemAreOneCrossing) {
   }
 }
 
+TEST(Junctions, YsThroughACrossingAlongAThinRodLyingOnAThickOne) {
+  // A thin rod runs along a thick one at a shallow angle, so the mask is no wider where
+  // they overlap (not a "wide" branch); a third rod crosses the overlap. The two Ys are
+  // more than 10 r apart, but with the crossing between them they are one crossing.
+  for (double angle : {8.0, 10.0}) {
+    cv::Mat mask = cv::Mat::zeros(300, 600, CV_8UC1);
+    test::draw_rod(mask, test::line_through({300, 150}, 0, 560), 15);
+    test::draw_rod(mask, test::line_through({300, 150}, angle, 560), 7);
+    test::draw_rod(mask, test::line_through({300, 150}, 90, 260), 9);
+    auto regions = regions_of(mask);
+    ASSERT_EQ(regions.size(), 1u) << "angle " << angle;
+    EXPECT_EQ(regions[0].exits.size(), 6u) << "angle " << angle;
+  }
+}
+
 }  // namespace
 }  // namespace mbest

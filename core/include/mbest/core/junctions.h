@@ -29,6 +29,9 @@ struct CrossingRegion {
 //    1.25 times theirs): two strands crossing at a shallow angle theta overlap over about
 //    2 r / sin(theta / 2), where the mask is wider than one DLO; a branch between two
 //    separate T-junctions is not. The pair is one X-crossing, its joining branch inside it.
+// 4. Ys still unpaired whose joining path runs through other crossings (a third strand
+//    across a shallow crossing makes a Y, an X and a Y) are one crossing with those between
+//    them, when the path is no longer than `wide_length`.
 // Branches made inner are marked dead in `graph`.
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& graph, double merge_length,
                                             double epsilon, double wide_length);
