@@ -132,6 +132,10 @@ TEST(Report, SyntheticReportHasCrossingTablesAndBins) {
   const nlohmann::json j = nlohmann::json::parse(report_json(e.value(), s, {}));
   EXPECT_EQ(j["layout"], "synth");
   EXPECT_EQ(j["pairing_by_angle"][3]["correct"], 1);
+  // Per tier too: the accuracy goal is stated per angle, and presets differ widely.
+  EXPECT_NE(md.find("| s2 | - | - | - | 100.00 (1) |"), std::string::npos) << md;
+  EXPECT_EQ(j["tiers"][0]["crossings"]["pairing_by_angle"][3]["assessed"], 1);
+  EXPECT_EQ(j["tiers"][0]["crossings"]["pairing_by_angle"][0]["assessed"], 0);
   EXPECT_EQ(j["images"][0]["crossings"][0]["pairing_correct"], true);
   const std::string t = tier_table(e.value(), s);
   EXPECT_NE(t.find("pairing %"), std::string::npos) << t;

@@ -87,6 +87,25 @@ std::vector<Row> crossing_rows(const Summary& s) {
   if (s.tiers.size() > 1) rows.push_back(crossing_row(s.all));
   return rows;
 }
+// Pairing per tier and angle bin: "rate (assessed)" cells, "-" where none was assessed.
+Row tier_angle_header() {
+  Row h{"tier"};
+  for (const Bin& b : angle_bins()) h.push_back(b.label);
+  return h;
+}
+Row tier_angle_row(const TierSummary& t) {
+  Row r{t.tier};
+  for (const RateBin& b : t.pairing_by_angle)
+    r.push_back(b.assessed ? rate(b.correct, b.assessed) + " (" + std::to_string(b.assessed) + ")"
+                           : "-");
+  return r;
+}
+std::vector<Row> tier_angle_rows(const Summary& s) {
+  std::vector<Row> rows;
+  for (const TierSummary& t : s.tiers) rows.push_back(tier_angle_row(t));
+  if (s.tiers.size() > 1) rows.push_back(tier_angle_row(s.all));
+  return rows;
+}
 Row bin_header(const std::string& figure) {
   return {figure, "pairing %", "(assessed)", "order %", "(assessed)"};
 }
@@ -212,6 +231,8 @@ std::string definitions(const Evaluation& e) {
 
 // ---- JSON ---------------------------------------------------------------------------------
 
+json rate_bins_json(const std::vector<RateBin>& bins);
+
 json tier_json(const TierSummary& t) {
   json j = {{"tier", t.tier},
             {"images", t.images},
@@ -227,7 +248,8 @@ json tier_json(const TierSummary& t) {
                            {"pairing_assessed", t.pairing_assessed},
                            {"pairing_correct", t.pairing_correct},
                            {"order_assessed", t.order_assessed},
-                           {"order_correct", t.order_correct}}}};
+                           {"order_correct", t.order_correct},
+                           {"pairing_by_angle", rate_bins_json(t.pairing_by_angle)}}}};
   if (t.has_centerlines)
     j["centerline_px"] = {
         {"pred_to_gt", {{"mean", t.pred_to_gt.mean}, {"p95", t.pred_to_gt.p95}, {"points", t.pred_to_gt.count}}},
@@ -454,6 +476,8 @@ std::string report_markdown(const Evaluation& e, const Summary& s, const ReportI
         << markdown_table(crossing_header(), crossing_rows(s)) << "\n"
         << "## Crossings by angle (degrees)\n\n"
         << markdown_table(bin_header("angle"), bin_rows(s.pairing_by_angle, s.order_by_angle))
+        << "\n## Pairing % by tier and angle (degrees), crossings assessed in brackets\n\n"
+        << markdown_table(tier_angle_header(), tier_angle_rows(s))
         << "\n## Crossings by curvature complexity (total_turning_rad)\n\n"
         << markdown_table(bin_header("complexity"),
                           bin_rows(s.pairing_by_complexity, s.order_by_complexity))
@@ -517,6 +541,8 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
   if (synthetic(e)) {
     out << "<h3>Crossings by angle</h3>\n"
         << html_table(bin_header("angle (degrees)"), bin_rows(s.pairing_by_angle, s.order_by_angle))
+        << "<h3>Pairing % by tier and angle (degrees), crossings assessed in brackets</h3>\n"
+        << html_table(tier_angle_header(), tier_angle_rows(s))
         << "<h3>Crossings by curvature complexity</h3>\n"
         << html_table(bin_header("total_turning_rad"),
                       bin_rows(s.pairing_by_complexity, s.order_by_complexity));

@@ -22,9 +22,13 @@ void mean_std_percent(const std::vector<double>& v, double* mean, double* std_de
   *std_dev = 100 * std::sqrt(sq / v.size());
 }
 
+std::vector<RateBin> rate_bins(const std::vector<Bin>& bins);
+void add(std::vector<RateBin>* bins, int index, bool correct);
+
 TierSummary summarise_images(const std::string& tier, const std::vector<const ImageResult*>& images) {
   TierSummary t;
   t.tier = tier;
+  t.pairing_by_angle = rate_bins(angle_bins());
   t.images = static_cast<int>(images.size());
   std::vector<double> strict, lenient, detect_ms, p2g, g2p;
   for (const ImageResult* r : images) {
@@ -38,6 +42,8 @@ TierSummary summarise_images(const std::string& tier, const std::vector<const Im
       ++t.crossings;
       t.pairing_assessed += c.pairing_assessed;
       t.pairing_correct += c.pairing_assessed && c.pairing_correct;
+      if (c.pairing_assessed)
+        add(&t.pairing_by_angle, bin_index(angle_bins(), c.angle_deg), c.pairing_correct);
       t.order_assessed += c.order_assessed;
       t.order_correct += c.order_assessed && c.order_correct;
     }

@@ -24,6 +24,11 @@ const std::vector<Bin>& complexity_bins();
 // Index of the bin holding `value`, -1 when none does.
 int bin_index(const std::vector<Bin>& bins, double value);
 
+struct RateBin {
+  Bin bin;
+  int assessed = 0, correct = 0;
+};
+
 struct TierSummary {
   std::string tier;  // "all" for the whole data set
   int images = 0;
@@ -37,14 +42,10 @@ struct TierSummary {
   int crossings = 0;
   int pairing_assessed = 0, pairing_correct = 0;
   int order_assessed = 0, order_correct = 0;
+  std::vector<RateBin> pairing_by_angle;  // angle_bins(); the accuracy goal is per angle
   bool has_centerlines = false;  // some image had predicted centerlines
   DistanceSummary pred_to_gt, gt_to_pred;  // pooled over every point of the tier
   double detect_ms_median = -1;            // with --run
-};
-
-struct RateBin {
-  Bin bin;
-  int assessed = 0, correct = 0;
 };
 
 struct MeanBin {
