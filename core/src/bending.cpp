@@ -163,15 +163,24 @@ double bending_energy(const BranchTangent& in, const BranchTangent& out) {
   return k1 * k1 + k2 * k2;
 }
 
+double pair_cost(const BranchTangent& a, const BranchTangent& b, double colour_weight) {
+  return 0.5 * (bending_energy(a, b) + bending_energy(b, a)) + colour_weight * colour_penalty(a, b);
+}
+
+double pairing_cost(const std::vector<BranchTangent>& exits,
+                    const std::vector<std::pair<int, int>>& pairs, double colour_weight) {
+  double cost = 0;
+  for (const auto& [a, b] : pairs) cost += pair_cost(exits[a], exits[b], colour_weight);
+  return cost;
+}
+
 std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
                                                     double colour_weight) {
   const int n = static_cast<int>(exits.size());
   std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b)
-      e[a][b] = e[b][a] =
-          0.5 * (bending_energy(exits[a], exits[b]) + bending_energy(exits[b], exits[a])) +
-          colour_weight * colour_penalty(exits[a], exits[b]);
+      e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], colour_weight);
 
   std::vector<std::pair<int, int>> best;
   if (n <= 10) {
@@ -199,22 +208,28 @@ std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTang
 
 namespace mbest {
 
+std::vector<BranchTangent> exit_tangents(const SkeletonGraph& g, const std::vector<BranchEnd>& exits,
+                                         const PairingSetup& s) {
+  std::vector<BranchTangent> tangents;
+  for (const BranchEnd& e : exits) {
+    const Branch& b = g.branches[e.branch];
+    const bool shared = g.nodes[b.node[1 - e.side]].kind == Node::Kind::junction;
+    tangents.push_back(fit_branch_tangent(g, e, s.cut_length, s.fit_length, shared));
+    if (s.colour_weight > 0)
+      sample_branch_colour(g, e, s.bgr, s.scale, &tangents.back(),
+                           static_cast<int>(std::lround(kColourStretchFits * s.fit_length)));
+  }
+  return tangents;
+}
+
 std::vector<Passage> build_passages(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
-                                    double cut_length, double fit_length, const cv::Mat& bgr,
-                                    float scale, double colour_weight) {
+                                    const PairingSetup& setup) {
+  const double colour_weight = setup.colour_weight;
   std::vector<Passage> passages;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
     const CrossingRegion& region = regions[r];
     if (region.exits.size() < 2) continue;
-    std::vector<BranchTangent> tangents;
-    for (const BranchEnd& e : region.exits) {
-      const Branch& b = g.branches[e.branch];
-      const bool shared = g.nodes[b.node[1 - e.side]].kind == Node::Kind::junction;
-      tangents.push_back(fit_branch_tangent(g, e, cut_length, fit_length, shared));
-      if (colour_weight > 0 && region.exits.size() > 2)
-        sample_branch_colour(g, e, bgr, scale, &tangents.back(),
-                             static_cast<int>(std::lround(kColourStretchFits * fit_length)));
-    }
+    const std::vector<BranchTangent> tangents = exit_tangents(g, region.exits, setup);
     for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
       Passage p;
       p.region = r;
@@ -235,6 +250,64 @@ std::vector<Passage> build_passages(const SkeletonGraph& g, const std::vector<Cr
     }
   }
   return passages;
+}
+
+}  // namespace mbest
+
+namespace mbest {
+
+int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>& regions,
+                                  const PairingSetup& setup, double max_link, double min_gain) {
+  const auto best_cost = [&](const std::vector<BranchEnd>& exits) {
+    const std::vector<BranchTangent> t = exit_tangents(g, exits, setup);
+    return pairing_cost(t, min_energy_pairing(t, setup.colour_weight), setup.colour_weight);
+  };
+  int merged = 0;
+  for (;;) {
+    std::vector<int> region_of(g.nodes.size(), -1);
+    for (int r = 0; r < static_cast<int>(regions.size()); ++r)
+      for (int n : regions[r].nodes) region_of[n] = r;
+    std::vector<double> cost(regions.size(), -1);
+    double best_gain = min_gain;
+    int best_link = -1;
+    std::vector<BranchEnd> best_exits;
+    for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
+      const Branch& b = g.branches[i];
+      if (!b.alive || b.length > max_link) continue;
+      const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
+      if (ra < 0 || rb < 0 || ra == rb) continue;
+      const CrossingRegion &a = regions[ra], &c = regions[rb];
+      if (a.exits.size() % 2 || c.exits.size() % 2) continue;  // a strand ends there
+      std::vector<BranchEnd> exits;
+      for (const auto* list : {&a.exits, &c.exits})
+        for (const BranchEnd& e : *list)
+          if (e.branch != i) exits.push_back(e);
+      if (exits.size() < 4 || exits.size() > 10) continue;
+      for (int r : {ra, rb})
+        if (cost[r] < 0) cost[r] = best_cost(regions[r].exits);
+      const double gain = cost[ra] + cost[rb] - best_cost(exits);
+      if (gain > best_gain) {
+        best_gain = gain;
+        best_link = i;
+        best_exits = std::move(exits);
+      }
+    }
+    if (best_link < 0) return merged;
+    Branch& link = g.branches[best_link];
+    const int ra = region_of[link.node[0]], rb = region_of[link.node[1]];
+    CrossingRegion& a = regions[ra];
+    const CrossingRegion& c = regions[rb];
+    a.nodes.insert(a.nodes.end(), c.nodes.begin(), c.nodes.end());
+    a.inner_branches.insert(a.inner_branches.end(), c.inner_branches.begin(), c.inner_branches.end());
+    a.inner_branches.push_back(best_link);
+    a.exits = std::move(best_exits);
+    cv::Point2f centre(0, 0);
+    for (int n : a.nodes) centre += g.nodes[n].centre;
+    a.centre = centre * (1.0f / static_cast<float>(a.nodes.size()));
+    link.alive = false;
+    regions.erase(regions.begin() + rb);
+    ++merged;
+  }
 }
 
 }  // namespace mbest

@@ -120,7 +120,8 @@ constexpr ConfigField kConfigFields[] = {
     {"epsilon_radii", &DetectorConfig::epsilon_radii, 0, 1000},
     {"wide_radii", &DetectorConfig::wide_radii, 0, 1000},
     {"half_resolution_radius", &DetectorConfig::half_resolution_radius, 0, 1000},
-    {"colour_weight", &DetectorConfig::colour_weight, 0, 100}};
+    {"colour_weight", &DetectorConfig::colour_weight, 0, 100},
+    {"merge_gain", &DetectorConfig::merge_gain, 0, 1000}};
 
 std::string out_of_range(const ConfigField& f, const std::string& value) {
   char range[64];
@@ -203,9 +204,12 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,
                            config.wide_radii * r);
   });
+  const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr, half ? 2.f : 1.f,
+                             config.colour_weight};
   auto passages = stage("bending", [&] {
-    return build_passages(graph, regions, config.cut_radii * r, config.fit_radii * r, bgr,
-                          half ? 2.f : 1.f, config.colour_weight);
+    merge_regions_by_pairing_cost(graph, regions, pairing, config.epsilon_radii * r,
+                                  config.merge_gain);
+    return build_passages(graph, regions, pairing);
   });
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);

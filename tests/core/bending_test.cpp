@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include "mbest/core/prune.h"
+#include "scenes.h"
+
 namespace mbest {
 namespace {
 
@@ -98,6 +101,85 @@ TEST(Bending, ColourDecidesBetweenPairingsGeometryCannotTellApart) {
   std::vector<BranchTangent> grey = exits;
   for (BranchTangent& t : grey) t.colour = {50, 0, 0};
   EXPECT_EQ(min_energy_pairing(grey, 2.0), plain);
+}
+
+// A hand-made graph: junctions J1 (100, 100) and J2 (140, 100) joined by a red link; a
+// red rod runs left-right through both, a blue one from the upper left of J1 to the lower
+// right of J2 and a green one from the lower left of J1 to the upper right of J2, all three
+// lying along the link. Each junction alone can only pair blue with green; together the
+// three strands run straight through.
+struct Bundle {
+  SkeletonGraph graph;
+  std::vector<CrossingRegion> regions;
+  cv::Mat bgr;
+};
+Bundle bundle() {
+  Bundle b;
+  SkeletonGraph& g = b.graph;
+  b.bgr = cv::Mat(200, 240, CV_8UC3, cv::Scalar(0, 0, 0));
+  const auto node = [&](cv::Point p, Node::Kind kind) {
+    Node n;
+    n.kind = kind;
+    n.pixels = {p};
+    n.centre = cv::Point2f(p);
+    g.nodes.push_back(n);
+    return static_cast<int>(g.nodes.size()) - 1;
+  };
+  const auto branch = [&](int from, int to, const cv::Scalar& colour) {
+    Branch br;
+    const cv::Point p = g.nodes[from].pixels[0], q = g.nodes[to].pixels[0];
+    cv::LineIterator it(p, q, 8);
+    for (int k = 0; k < it.count; ++k, ++it)
+      if (k > 0 && k < it.count - 1) br.pixels.push_back(it.pos());
+    br.radius.assign(br.pixels.size(), 3.0f);
+    br.node[0] = from;
+    br.node[1] = to;
+    br.length = chain_length(br.pixels) + 2;
+    g.branches.push_back(br);
+    const int i = static_cast<int>(g.branches.size()) - 1;
+    g.nodes[from].branch_ends.push_back({i, 0});
+    g.nodes[to].branch_ends.push_back({i, 1});
+    cv::line(b.bgr, p, q, colour, 5);
+    return i;
+  };
+  const cv::Scalar red(40, 40, 200), blue(200, 90, 30), green(40, 200, 60);
+  const int j1 = node({100, 100}, Node::Kind::junction), j2 = node({140, 100}, Node::Kind::junction);
+  branch(node({30, 100}, Node::Kind::end), j1, red);
+  branch(node({50, 50}, Node::Kind::end), j1, blue);
+  branch(node({50, 150}, Node::Kind::end), j1, green);
+  branch(j2, node({210, 100}, Node::Kind::end), red);
+  branch(j2, node({190, 150}, Node::Kind::end), blue);
+  branch(j2, node({190, 50}, Node::Kind::end), green);
+  branch(j1, j2, red);  // drawn last: the link shows the top strand's colour
+  for (int j : {j1, j2}) {
+    CrossingRegion r;
+    r.nodes = {j};
+    r.exits = g.nodes[j].branch_ends;
+    r.centre = g.nodes[j].centre;
+    b.regions.push_back(r);
+  }
+  return b;
+}
+
+TEST(Bending, RegionsThatPairBetterTogetherAreMerged) {
+  Bundle b = bundle();
+  const PairingSetup setup{2, 8, b.bgr, 1, 2.0};
+  Bundle kept = b;
+  EXPECT_EQ(merge_regions_by_pairing_cost(kept.graph, kept.regions, setup, 60, 1000), 0)
+      << "no merge gains that much";
+  EXPECT_EQ(merge_regions_by_pairing_cost(b.graph, b.regions, setup, 30, 1.0), 0)
+      << "the link is longer than max_link";
+  ASSERT_EQ(merge_regions_by_pairing_cost(b.graph, b.regions, setup, 60, 1.0), 1);
+  ASSERT_EQ(b.regions.size(), 1u);
+  const CrossingRegion& r = b.regions[0];
+  ASSERT_EQ(r.exits.size(), 6u);
+  ASSERT_EQ(r.inner_branches.size(), 1u);
+  EXPECT_FALSE(b.graph.branches[r.inner_branches[0]].alive) << "the link is inside the crossing";
+  const std::vector<BranchTangent> t = exit_tangents(b.graph, r.exits, setup);
+  for (const auto& [i, j] : min_energy_pairing(t, setup.colour_weight)) {
+    EXPECT_LT(t[i].direction.dot(t[j].direction), -0.95) << "strands run straight through";
+    EXPECT_EQ(colour_penalty(t[i], t[j]), 0);
+  }
 }
 
 }  // namespace

@@ -121,6 +121,32 @@ TEST(Detector, DloEndingOnAnotherLeavesTheOtherWhole) {
   }
 }
 
+// Three rods of three colours crossing pairwise within a few radii of one point: the
+// skeleton may split that cluster into regions that cannot be paired right one by one.
+TEST(Detector, ThreeColouredRodsCrossingNearOnePoint) {
+  for (const cv::Point2d offset : {cv::Point2d(0, 0), cv::Point2d(14, 0), cv::Point2d(0, 12)}) {
+    const cv::Size size(400, 400);
+    const std::vector<std::vector<cv::Point>> rods{
+        test::line_through(cv::Point2d(200, 200), 0, 360),
+        test::line_through(cv::Point2d(200, 200) + offset, 60, 360),
+        test::line_through(cv::Point2d(200, 200) - offset, 120, 360)};
+    std::vector<cv::Mat> gt;
+    const cv::Mat mask = scene(size, rods, 13, &gt);
+    cv::Mat bgr(size, CV_8UC3, cv::Scalar(0, 0, 0));
+    const cv::Scalar colours[] = {{40, 40, 200}, {200, 90, 30}, {40, 200, 60}};
+    for (int i = 0; i < 3; ++i) bgr.setTo(colours[i], gt[i]);
+    auto r = detect(mask, bgr);
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r.value().dlos.size(), 3u) << offset;
+    const cv::Mat& labels = r.value().labels;
+    for (const auto& rod : rods) {  // each rod's two far ends carry one label
+      const cv::Point a = rod.front() + (rod.back() - rod.front()) * 0.05;
+      const cv::Point b = rod.front() + (rod.back() - rod.front()) * 0.95;
+      EXPECT_EQ(labels.at<uint16_t>(a), labels.at<uint16_t>(b)) << offset << " rod from " << rod.front();
+    }
+  }
+}
+
 TEST(Detector, NearParallelCrossingFromTwoYs) {
   std::vector<cv::Mat> gt;
   const cv::Mat mask = scene({600, 300},

@@ -85,16 +85,42 @@ struct Passage {
   double energy = 0;              // bending energy of the path
 };
 
+// How exits are summarised and paired: tangents skip `cut_length` px next to the crossing
+// and are fitted over the next `fit_length` px; with an image (`bgr` not empty, graph
+// pixels times `scale` = image pixels) and `colour_weight` > 0, exits of different colour
+// are paired reluctantly (colour_penalty).
+struct PairingSetup {
+  double cut_length = 0, fit_length = 0;
+  cv::Mat bgr;
+  float scale = 1;
+  double colour_weight = 0;
+};
+
+// The cost of pairing two exits: their mean bending energy both ways plus colour_weight
+// times the colour penalty; and the total over a pairing.
+double pair_cost(const BranchTangent& a, const BranchTangent& b, double colour_weight);
+double pairing_cost(const std::vector<BranchTangent>& exits,
+                    const std::vector<std::pair<int, int>>& pairs, double colour_weight);
+
+// The tangents (and colours) of a crossing's exits under `setup`.
+std::vector<BranchTangent> exit_tangents(const SkeletonGraph& graph,
+                                         const std::vector<BranchEnd>& exits,
+                                         const PairingSetup& setup);
+
+// Junction grouping decides by distance; where three strands cross near one point the
+// skeleton may split the crossing into two regions a few radii apart, and each alone can
+// only pair its exits wrongly. Two regions with even exit counts joined by a branch no
+// longer than `max_link` become one when pairing their exits together costs at least
+// `min_gain` less than pairing each alone (the link becomes inner and is marked dead);
+// best gain first, repeated while one qualifies, up to 10 exits. Returns the merges made.
+int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
+                                  const PairingSetup& setup, double max_link, double min_gain);
+
 // The bending stage: for every crossing region, the tangents of its exits and the pairing
-// of least total energy; one Passage per pair (a region with two exits, a bend the
-// skeleton made into a junction, gets its single forced passage). Tangents skip `cut_length`
-// px next to the crossing and are fitted over the next `fit_length` px. With an image
-// (`bgr` not empty, graph pixels times `scale` = image pixels) and `colour_weight` > 0,
-// exits of different colour are paired reluctantly (colour_penalty).
+// of least total cost; one Passage per pair (a region with two exits, a bend the skeleton
+// made into a junction, gets its single forced passage).
 std::vector<Passage> build_passages(const SkeletonGraph& graph,
                                     const std::vector<CrossingRegion>& regions,
-                                    double cut_length, double fit_length,
-                                    const cv::Mat& bgr = cv::Mat(), float scale = 1,
-                                    double colour_weight = 0);
+                                    const PairingSetup& setup);
 
 }  // namespace mbest

@@ -62,6 +62,10 @@ struct DetectorConfig {
   // With the colour image: how much a colour change between two exits of a crossing weighs
   // against pairing them (bending.h, colour_penalty). 0 = geometry alone, as in the paper.
   double colour_weight = 2.0;
+  // Two crossing regions joined by a branch up to epsilon_radii long become one when
+  // pairing their exits together costs this much less (bending energy units) than pairing
+  // each alone (bending.h, merge_regions_by_pairing_cost). Large values turn it off.
+  double merge_gain = 1.0;
 };
 
 // Reads a DetectorConfig from a JSON object of the fields above (all optional). Unknown
