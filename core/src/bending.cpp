@@ -4,10 +4,12 @@
 #include "mbest/core/median.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include <opencv2/imgproc.hpp>
+
 
 namespace mbest {
 namespace {
@@ -99,6 +101,18 @@ BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double c
   return t;
 }
 
+namespace {
+
+// The middle value of 8-bit samples, by counting (the samples of one exit number hundreds).
+uint8_t middle_byte(const std::array<int, 256>& histogram, int count) {
+  int seen = 0;
+  for (int v = 0; v < 256; ++v)
+    if ((seen += histogram[v]) > count / 2) return static_cast<uint8_t>(v);
+  return 255;
+}
+
+}  // namespace
+
 void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& bgr, float scale,
                           BranchTangent* t, int stretch) {
   const Branch& b = g.branches[end.branch];
@@ -110,8 +124,10 @@ void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& 
   };
   const int first = t->cut, last = std::min({t->reach, first + stretch, n - 1});
   const float offset = 0.5f * t->radius;
-  cv::Mat samples(1, 3 * std::max(1, last - first + 1), CV_8UC3);
-  int count = 0;
+  // Addresses first, then the reads: the image is large and cold, and issuing every load
+  // before using any lets the memory system fetch them in parallel.
+  std::vector<const uint8_t*> at;
+  at.reserve(3 * (last - first + 1));
   for (int i = first; i <= last; ++i) {
     const cv::Point2f along = px(i + 2) - px(i - 2);
     const float norm = std::hypot(along.x, along.y);
@@ -121,18 +137,23 @@ void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& 
       const cv::Point2f q = (px(i) + normal * s) * scale + cv::Point2f(0.5f, 0.5f) * (scale - 1);
       const int x = cvRound(q.x), y = cvRound(q.y);
       if (x < 0 || y < 0 || x >= bgr.cols || y >= bgr.rows) continue;
-      samples.at<cv::Vec3b>(0, count++) = bgr.at<cv::Vec3b>(y, x);
+      at.push_back(bgr.ptr<uint8_t>(y) + 3 * x);
+      __builtin_prefetch(at.back());
     }
   }
+  const int count = static_cast<int>(at.size());
   if (count == 0) return;
-  cv::Mat lab;
-  samples.colRange(0, count).convertTo(lab, CV_32FC3, 1.0 / 255);
-  cv::cvtColor(lab, lab, cv::COLOR_BGR2Lab);
-  std::vector<float> channel(count);
-  for (int c = 0; c < 3; ++c) {
-    for (int k = 0; k < count; ++k) channel[k] = lab.at<cv::Vec3f>(0, k)[c];
-    t->colour[c] = middle_value(channel);
-  }
+  cv::Mat samples(1, count, CV_8UC3), lab;
+  for (int k = 0; k < count; ++k)
+    samples.at<cv::Vec3b>(0, k) = cv::Vec3b(at[k][0], at[k][1], at[k][2]);
+  // Per sample, so that highlights and shading are outvoted in the space compared.
+  cv::cvtColor(samples, lab, cv::COLOR_BGR2Lab);  // 8-bit: L * 255 / 100, a + 128, b + 128
+  std::array<std::array<int, 256>, 3> histogram{};
+  for (int k = 0; k < count; ++k)
+    for (int c = 0; c < 3; ++c) ++histogram[c][lab.at<cv::Vec3b>(0, k)[c]];
+  t->colour = cv::Vec3f(middle_byte(histogram[0], count) * 100.0f / 255,
+                        middle_byte(histogram[1], count) - 128.0f,
+                        middle_byte(histogram[2], count) - 128.0f);
   t->has_colour = true;
 }
 
@@ -208,28 +229,48 @@ std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTang
 
 namespace mbest {
 
+namespace {
+
+BranchTangent exit_tangent(const SkeletonGraph& g, BranchEnd e, const PairingSetup& s) {
+  const Branch& b = g.branches[e.branch];
+  const bool shared = g.nodes[b.node[1 - e.side]].kind == Node::Kind::junction;
+  BranchTangent t = fit_branch_tangent(g, e, s.cut_length, s.fit_length, shared);
+  if (s.colour_weight > 0)
+    sample_branch_colour(g, e, s.bgr, s.scale, &t,
+                         static_cast<int>(std::lround(kColourStretchFits * s.fit_length)));
+  return t;
+}
+
+}  // namespace
+
+TangentCache::TangentCache(const SkeletonGraph& g, const PairingSetup& s)
+    : graph_(g), setup_(s), tangents_(2 * g.branches.size()), done_(2 * g.branches.size(), false) {}
+
+std::vector<BranchTangent> TangentCache::of(const std::vector<BranchEnd>& exits) {
+  std::vector<BranchTangent> out;
+  out.reserve(exits.size());
+  for (const BranchEnd& e : exits) {
+    const size_t k = 2 * static_cast<size_t>(e.branch) + e.side;
+    if (!done_[k]) tangents_[k] = exit_tangent(graph_, e, setup_), done_[k] = true;
+    out.push_back(tangents_[k]);
+  }
+  return out;
+}
+
 std::vector<BranchTangent> exit_tangents(const SkeletonGraph& g, const std::vector<BranchEnd>& exits,
                                          const PairingSetup& s) {
   std::vector<BranchTangent> tangents;
-  for (const BranchEnd& e : exits) {
-    const Branch& b = g.branches[e.branch];
-    const bool shared = g.nodes[b.node[1 - e.side]].kind == Node::Kind::junction;
-    tangents.push_back(fit_branch_tangent(g, e, s.cut_length, s.fit_length, shared));
-    if (s.colour_weight > 0)
-      sample_branch_colour(g, e, s.bgr, s.scale, &tangents.back(),
-                           static_cast<int>(std::lround(kColourStretchFits * s.fit_length)));
-  }
+  for (const BranchEnd& e : exits) tangents.push_back(exit_tangent(g, e, s));
   return tangents;
 }
 
-std::vector<Passage> build_passages(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
-                                    const PairingSetup& setup) {
-  const double colour_weight = setup.colour_weight;
+std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache) {
+  const double colour_weight = cache.setup().colour_weight;
   std::vector<Passage> passages;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
     const CrossingRegion& region = regions[r];
     if (region.exits.size() < 2) continue;
-    const std::vector<BranchTangent> tangents = exit_tangents(g, region.exits, setup);
+    const std::vector<BranchTangent> tangents = cache.of(region.exits);
     for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
       Passage p;
       p.region = r;
@@ -257,9 +298,10 @@ std::vector<Passage> build_passages(const SkeletonGraph& g, const std::vector<Cr
 namespace mbest {
 
 int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>& regions,
-                                  const PairingSetup& setup, double max_link, double min_gain) {
+                                  TangentCache& cache, double max_link, double min_gain) {
+  const PairingSetup& setup = cache.setup();
   const auto best_cost = [&](const std::vector<BranchEnd>& exits) {
-    const std::vector<BranchTangent> t = exit_tangents(g, exits, setup);
+    const std::vector<BranchTangent> t = cache.of(exits);
     return pairing_cost(t, min_energy_pairing(t, setup.colour_weight), setup.colour_weight);
   };
   int merged = 0;
@@ -285,6 +327,8 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       if (exits.size() < 4 || exits.size() > 10) continue;
       for (int r : {ra, rb})
         if (cost[r] < 0) cost[r] = best_cost(regions[r].exits);
+      // Costs are never negative: regions that pair well alone cannot gain enough.
+      if (cost[ra] + cost[rb] <= best_gain) continue;
       const double gain = cost[ra] + cost[rb] - best_cost(exits);
       if (gain > best_gain) {
         best_gain = gain;

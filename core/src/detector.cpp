@@ -207,9 +207,10 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr, half ? 2.f : 1.f,
                              config.colour_weight};
   auto passages = stage("bending", [&] {
-    merge_regions_by_pairing_cost(graph, regions, pairing, config.epsilon_radii * r,
+    TangentCache tangents(graph, pairing);
+    merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
                                   config.merge_gain);
-    return build_passages(graph, regions, pairing);
+    return build_passages(regions, tangents);
   });
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);

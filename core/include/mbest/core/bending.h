@@ -107,6 +107,22 @@ std::vector<BranchTangent> exit_tangents(const SkeletonGraph& graph,
                                          const std::vector<BranchEnd>& exits,
                                          const PairingSetup& setup);
 
+// exit_tangents, each exit computed once per graph: an exit's tangent and colour depend on
+// its own branch only, however the crossings around it are grouped. Holds references to
+// both arguments; the graph may lose branches (alive = false) but not gain any.
+class TangentCache {
+ public:
+  TangentCache(const SkeletonGraph& graph, const PairingSetup& setup);
+  std::vector<BranchTangent> of(const std::vector<BranchEnd>& exits);
+  const PairingSetup& setup() const { return setup_; }
+
+ private:
+  const SkeletonGraph& graph_;
+  const PairingSetup& setup_;
+  std::vector<BranchTangent> tangents_;
+  std::vector<bool> done_;
+};
+
 // Junction grouping decides by distance; where three strands cross near one point the
 // skeleton may split the crossing into two regions a few radii apart, and each alone can
 // only pair its exits wrongly. Two regions with even exit counts joined by a branch no
@@ -114,13 +130,13 @@ std::vector<BranchTangent> exit_tangents(const SkeletonGraph& graph,
 // `min_gain` less than pairing each alone (the link becomes inner and is marked dead);
 // best gain first, repeated while one qualifies, up to 10 exits. Returns the merges made.
 int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
-                                  const PairingSetup& setup, double max_link, double min_gain);
+                                  TangentCache& tangents, double max_link, double min_gain);
 
-// The bending stage: for every crossing region, the tangents of its exits and the pairing
-// of least total cost; one Passage per pair (a region with two exits, a bend the skeleton
-// made into a junction, gets its single forced passage).
-std::vector<Passage> build_passages(const SkeletonGraph& graph,
-                                    const std::vector<CrossingRegion>& regions,
-                                    const PairingSetup& setup);
+// The bending stage: for every crossing region, the tangents of its exits (from the graph
+// `tangents` was made for) and the pairing of least total cost; one Passage per pair (a
+// region with two exits, a bend the skeleton made into a junction, gets its single forced
+// passage).
+std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
+                                    TangentCache& tangents);
 
 }  // namespace mbest
