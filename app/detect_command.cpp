@@ -17,6 +17,7 @@
 
 #include "commands.h"
 #include "io.h"
+#include "mbest/core/atomic_file.h"
 #include "mbest/core/detector.h"
 #include "mbest/core/median.h"
 #include "mbest/core/overlay.h"
@@ -127,11 +128,11 @@ Result<nlohmann::json> process(const Input& in, const Options& o, bool mask_is_f
   if (Status s = make_dirs(base.parent_path().string()); !s) return s.error();
   const std::string stem = (base.parent_path() / base.stem()).string();
   cv::Mat labels = det.value().labels;
-  if (Status s = write_image_atomic(stem + ".labels.png", labels); !s) return s.error();
+  if (Status s = write_image_atomically(stem + ".labels.png", labels); !s) return s.error();
   const nlohmann::json j = detection_json(det.value(), in.relative.string(), mask.size());
-  if (Status s = write_text_atomic(stem + ".json", j.dump()); !s) return s.error();
+  if (Status s = write_file_atomically(stem + ".json", j.dump()); !s) return s.error();
   if (o.overlay)
-    if (Status s = write_image_atomic(stem + ".overlay.png", draw_overlay(image.value(), det.value())); !s)
+    if (Status s = write_image_atomically(stem + ".overlay.png", draw_overlay(image.value(), det.value())); !s)
       return s.error();
   return nlohmann::json{{"path", in.relative.string()}, {"total_ms", j["total_ms"]}, {"stages_ms", j["stages_ms"]},
                         {"dlos", det.value().dlos.size()}};
@@ -209,7 +210,7 @@ int run(Options o) {
     nlohmann::json ms = nlohmann::json::object();
     for (auto& [k, v] : stages) ms[k] = median(v);
     t["median_stages_ms"] = ms;
-    if (Status s = write_text_atomic(o.timings, t.dump(2)); !s) {
+    if (Status s = write_file_atomically(o.timings, t.dump(2)); !s) {
       std::cerr << "mbest detect: " << s.error().message << "\n";
       return 1;
     }

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "mbest/core/atomic_file.h"
+
 namespace mbest::synth {
 namespace {
 
@@ -99,12 +101,7 @@ Status write_annotation(const SceneAnnotation& scene, const std::string& path) {
                   {"height", scene.height}, {"preset", scene.preset},
                   {"seed", scene.seed},     {"index", scene.index},
                   {"rods", std::move(rods)}, {"crossings", std::move(crossings)}};
-  std::ofstream out(path, std::ios::binary);
-  if (!out) return Error{"cannot write annotation file " + path};
-  out << j.dump(1) << '\n';
-  out.close();
-  if (!out) return Error{"error while writing annotation file " + path};
-  return ok_status();
+  return write_file_atomically(path, j.dump(1) + "\n");
 }
 
 Result<SceneAnnotation> read_annotation(const std::string& path) {

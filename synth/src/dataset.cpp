@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "mbest/core/atomic_file.h"
 #include "mbest/synth/rod.h"
 #include "mbest/synth/scene.h"
 
@@ -23,30 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-// Writes bytes to a hidden temporary file beside `path`, then renames it into place.
-Status write_atomically(const std::string& path, const std::vector<uchar>& bytes) {
-  const fs::path target(path);
-  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return Error{"cannot write " + tmp.string()};
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) return Error{"error while writing " + tmp.string()};
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) return Error{"cannot rename " + tmp.string() + " to " + path + ": " + ec.message()};
-  return ok_status();
-}
-
-Status write_image(const std::string& path, const cv::Mat& image, const std::vector<int>& params) {
-  std::vector<uchar> bytes;
-  const std::string ext = fs::path(path).extension().string();
-  if (!cv::imencode(ext, image, bytes, params)) return Error{"cannot encode " + path};
-  return write_atomically(path, bytes);
-}
 
 void png_append(png_structp png, png_bytep data, png_size_t n) {
   auto* out = static_cast<std::vector<uchar>*>(png_get_io_ptr(png));
@@ -77,10 +54,6 @@ bool encode_picture_png(const cv::Mat& bgr, std::vector<uchar>* out) {
   png_write_end(png, info);
   png_destroy_write_struct(&png, &info);
   return true;
-}
-
-Status write_text(const std::string& path, const std::string& text) {
-  return write_atomically(path, std::vector<uchar>(text.begin(), text.end()));
 }
 
 // PNG settings fixed so the bytes do not depend on OpenCV's defaults changing.
@@ -123,7 +96,7 @@ Status record_dataset(const DatasetOptions& o) {
     return ok_status();
   }
   doc["splits"][o.split] = entry;
-  return write_text(file.string(), doc.dump(2) + "\n");
+  return write_file_atomically(file.string(), doc.dump(2) + "\n");
 }
 
 }  // namespace
@@ -179,25 +152,18 @@ Status write_scene(const GeneratedScene& scene, const SynthConfig& config, const
   if (config.camera.format == "png" && scene.render.image.type() == CV_8UC3) {
     std::vector<uchar> bytes;
     if (!encode_picture_png(scene.render.image, &bytes)) return Error{"cannot encode " + (dir / a.image).string()};
-    s = write_atomically((dir / a.image).string(), bytes);
+    s = write_file_atomically((dir / a.image).string(), bytes);
   } else {
-    s = write_image((dir / a.image).string(), scene.render.image, params);
+    s = write_image_atomically((dir / a.image).string(), scene.render.image, params);
   }
-  if (s) s = write_image((dir / a.labels).string(), scene.render.labels, kPngMask);
-  if (s) s = write_image((dir / a.semantic).string(), scene.render.labels > 0, kPngBilevel);
+  if (s) s = write_image_atomically((dir / a.labels).string(), scene.render.labels, kPngMask);
+  if (s) s = write_image_atomically((dir / a.semantic).string(), scene.render.labels > 0, kPngBilevel);
   for (size_t i = 0; s && i < a.rods.size(); ++i) {
-    s = write_image((dir / a.rods[i].amodal_mask).string(), scene.render.amodal[i], kPngBilevel);
+    s = write_image_atomically((dir / a.rods[i].amodal_mask).string(), scene.render.amodal[i], kPngBilevel);
   }
   if (!s) return s;
   // The annotation last: its presence marks the scene done.
-  const fs::path target = dir / "annotations" / (scene_stem(a.index) + ".json");
-  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
-  s = write_annotation(a, tmp.string());
-  if (!s) return s;
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) return Error{"cannot rename " + tmp.string() + " to " + target.string() + ": " + ec.message()};
-  return ok_status();
+  return write_annotation(a, (dir / "annotations" / (scene_stem(a.index) + ".json")).string());
 }
 
 Status generate_dataset(const DatasetOptions& o, const std::function<void(const Progress&)>& progress) {
@@ -307,7 +273,7 @@ Status write_coco(const std::string& split_dir, int count) {
                      {"images", images},
                      {"annotations", annotations},
                      {"categories", json::array({{{"id", 1}, {"name", "rod"}, {"supercategory", "dlo"}}})}};
-  return write_text((dir / "coco.json").string(), coco.dump() + "\n");
+  return write_file_atomically((dir / "coco.json").string(), coco.dump() + "\n");
 }
 
 }  // namespace mbest::synth

@@ -78,7 +78,7 @@ TEST_F(Dataset, ResumeRedoesOnlyUnfinishedScenesAndLeavesNoTemporaries) {
   // Simulate an interruption in scene 3: its annotation (written last) is missing and a
   // temporary file is left over.
   fs::remove(fs::path(o.out) / "train/annotations/000003.json");
-  std::ofstream(fs::path(o.out) / "train/images/.000003.jpg.tmp") << "partial";
+  std::ofstream(fs::path(o.out) / "train/images/.000003.tmp.jpg") << "partial";
   Progress last;
   ASSERT_TRUE(generate_dataset(o, [&](const Progress& p) { last = p; }));
   EXPECT_EQ(last.skipped, 5);

@@ -4,16 +4,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "charts.h"
+#include "mbest/core/atomic_file.h"
 
 namespace mbest::validate {
 
@@ -402,28 +401,6 @@ std::vector<std::string> labels_of(const std::vector<B>& bins) {
   return out;
 }
 
-Status write_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) return Error{tmp.string() + ": cannot open for writing"};
-    out << text;
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      fs::remove(tmp, ignored);
-      return Error{tmp.string() + ": write failed"};
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    return Error{path.string() + ": cannot rename the temporary file into place"};
-  }
-  return ok_status();
-}
-
 }  // namespace
 
 std::string tier_table(const Evaluation& e, const Summary& s) {
@@ -584,9 +561,9 @@ Status write_report(const Evaluation& e, const Summary& s, const ReportInfo& inf
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) return Error{dir + ": cannot create the report folder"};
   const fs::path d(dir);
-  if (Status st = write_atomically(d / "report.json", report_json(e, s, info)); !st) return st;
-  if (Status st = write_atomically(d / "report.md", report_markdown(e, s, info)); !st) return st;
-  return write_atomically(d / "report.html", report_html(e, s, info));
+  if (Status st = write_file_atomically((d / "report.json").string(), report_json(e, s, info)); !st) return st;
+  if (Status st = write_file_atomically((d / "report.md").string(), report_markdown(e, s, info)); !st) return st;
+  return write_file_atomically((d / "report.html").string(), report_html(e, s, info));
 }
 
 }  // namespace mbest::validate

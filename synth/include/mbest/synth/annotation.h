@@ -58,7 +58,8 @@ struct SceneAnnotation {
   std::string semantic;  // "semantic": e.g. "semantic/0000.png" (8-bit, 255 = any rod)
 };
 
-// Reads / writes the JSON form above. Errors name the file and the field.
+// Reads / writes the JSON form above; the write goes through a temporary file
+// (mbest/core/atomic_file.h). Errors name the file and the field.
 Result<SceneAnnotation> read_annotation(const std::string& path);
 Status write_annotation(const SceneAnnotation& scene, const std::string& path);
 
