@@ -49,24 +49,36 @@ bool is_stub_past_crossing(const SkeletonGraph& g, int i, int end_side, double r
   return false;
 }
 
-// Does the short branch `i` end a DLO lying on another one? A split end forks off one
-// DLO, so the other branches at its junction have one colour; where they differ in colour
-// (colour_penalty > 0), two DLOs meet there and the short branch is a real end.
+// Is the short branch `i` where two DLOs meet rather than a split end? A split end forks
+// off one DLO, so every branch at its junction has that DLO's colour. Where two of them
+// differ (colour_penalty > 0) the short branch is a real end: of a DLO lying on another
+// (the others differ), or of one ending just past a crossing (the branch itself differs;
+// sampled over its outer half, away from the DLO it crosses).
 bool joins_two_colours(const SkeletonGraph& g, int i, int end_side, const ColourSource& colour) {
   if (colour.bgr.empty()) return false;
-  const Node& junction = g.nodes[g.branches[i].node[1 - end_side]];
-  std::vector<BranchTangent> others;
+  const Branch& spur = g.branches[i];
+  const Node& junction = g.nodes[spur.node[1 - end_side]];
+  std::vector<BranchTangent> sampled;
+  const BranchEnd tip{i, end_side};
+  sampled.push_back(fit_branch_tangent(g, tip, 0, 3 * colour.radius, false));
+  sample_branch_colour(g, tip, colour.bgr, colour.scale, &sampled.back(),
+                       std::max(1, static_cast<int>(spur.pixels.size()) / 2));
   for (const BranchEnd& e : junction.branch_ends) {
     const Branch& other = g.branches[e.branch];
     if (e.branch == i || !other.alive) continue;
     const bool shared = g.nodes[other.node[1 - e.side]].kind == Node::Kind::junction;
-    others.push_back(fit_branch_tangent(g, e, colour.radius, 3 * colour.radius, shared));
-    sample_branch_colour(g, e, colour.bgr, colour.scale, &others.back(),
+    sampled.push_back(fit_branch_tangent(g, e, colour.radius, 3 * colour.radius, shared));
+    sample_branch_colour(g, e, colour.bgr, colour.scale, &sampled.back(),
                          static_cast<int>(std::lround(kColourStretchFits * 3 * colour.radius)));
   }
-  for (size_t a = 0; a < others.size(); ++a)
-    for (size_t b = a + 1; b < others.size(); ++b)
-      if (colour_penalty(others[a], others[b]) > 0) return true;
+  // A thin prong of a forked tip is mostly the tip's shaded edge: its own colour counts
+  // only when it is about as wide as the branches it leaves.
+  float widest = 0;
+  for (size_t k = 1; k < sampled.size(); ++k) widest = std::max(widest, sampled[k].radius);
+  const size_t from = sampled[0].radius >= 0.6f * widest ? 0 : 1;
+  for (size_t a = from; a < sampled.size(); ++a)
+    for (size_t b = a + 1; b < sampled.size(); ++b)
+      if (colour_penalty(sampled[a], sampled[b]) > 0) return true;
   return false;
 }
 

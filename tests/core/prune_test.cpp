@@ -118,5 +118,32 @@ TEST(Prune, EndOfARodLyingOnAnotherOfAnotherColourStays) {
   }
 }
 
+TEST(Prune, StubOfAnotherColourPastAShallowCrossingStays) {
+  // A blue rod crosses a red one at 40-50 degrees and ends a few pixels past it. The
+  // skeleton splits the crossing into two junctions of three branches; the stub's junction
+  // has only red branches besides it, so by the other branches alone it looks like a split
+  // end of the red rod. Its own colour shows it is the blue rod's end.
+  for (double angle : {40.0, 45.0, 50.0}) {
+    cv::Mat mask = cv::Mat::zeros(200, 400, CV_8UC1), bgr = cv::Mat::zeros(200, 400, CV_8UC3);
+    const double a = angle * M_PI / 180;
+    const cv::Point2d dir(-std::cos(a), -std::sin(a));  // from the lower right, up-left
+    const cv::Point2d cross(200, 100);
+    const cv::Point tail(cross - 150 * dir), tip(cross + (7.5 + 6) / std::sin(a) * dir);
+    cv::Mat red = cv::Mat::zeros(mask.size(), CV_8UC1), blue = red.clone();
+    test::draw_rod(red, {{20, 100}, {380, 100}}, 15);
+    test::draw_rod(blue, {tail, tip}, 11);
+    mask = red | blue;
+    bgr.setTo(cv::Scalar(40, 40, 200), red);
+    bgr.setTo(cv::Scalar(200, 90, 30), blue & ~red);
+    Skeleton sk = skeletonize(mask);
+    SkeletonGraph g = build_skeleton_graph(sk, detect_keypoints(sk));
+    const float r = measure_radii(g, mask);
+    SkeletonGraph plain = g;
+    ASSERT_GE(prune_split_ends(plain, 2 * r, mask.size()), 1)
+        << "angle " << angle << ": without colour the stub should look like a split end";
+    EXPECT_EQ(prune_split_ends(g, 2 * r, mask.size(), ColourSource{bgr, 1, r}), 0) << "angle " << angle;
+  }
+}
+
 }  // namespace
 }  // namespace mbest
