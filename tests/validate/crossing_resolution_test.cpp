@@ -151,6 +151,28 @@ TEST(CrossingResolution, SamplesBeyondTheOverlapOfAShallowCrossing) {
   EXPECT_TRUE(r.pairing_correct);
 }
 
+TEST(CrossingResolution, SamplesWhereNoThirdRodOverlapsTheStrand) {
+  // Rod 3 lies across rod 1 at 13 degrees just right of the crossing, under rod 1 in the
+  // truth and on top in the prediction. Where their bodies overlap, the prediction's label
+  // on rod 1 tests the order of rods 1 and 3, not the pairing at the crossing of 1 and 2:
+  // the sample must be taken past the overlap.
+  TwoRods s(90);
+  s.scene.rods.push_back(rod(3, {{106, 63}, {190, 44}}, 8));
+  s.gt.setTo(0);
+  draw(&s.gt, s.scene.rods[2], 3);
+  draw(&s.gt, s.scene.rods[1], 2);
+  draw(&s.gt, s.scene.rods[0], 1);
+  cv::Mat pred = cv::Mat::zeros(s.gt.size(), CV_16UC1);
+  draw(&pred, s.scene.rods[1], 9);
+  draw(&pred, s.scene.rods[0], 5);
+  draw(&pred, s.scene.rods[2], 7);
+  const CrossingResolution r = s.resolve(pred);
+  EXPECT_TRUE(r.pairing_assessed) << r.note;
+  EXPECT_EQ(r.a_before, 5);
+  EXPECT_EQ(r.a_after, 5);
+  EXPECT_TRUE(r.pairing_correct);
+}
+
 TEST(CrossingResolution, ShortRodWithoutAClearSampleIsNotAssessed) {
   const TwoRods s(5);  // rod 2 ends before it clears rod 1
   const CrossingResolution r = s.resolve(relabel(s.gt, 1, 2));

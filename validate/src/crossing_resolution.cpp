@@ -6,6 +6,8 @@
 #include <map>
 #include <optional>
 
+#include <opencv2/imgproc.hpp>
+
 namespace mbest::validate {
 
 namespace {
@@ -17,10 +19,31 @@ int label_at(const cv::Mat& labels16, cv::Point p) {
   return labels16.at<uint16_t>(p);
 }
 
+// How many rods' bodies (each rod's centerline drawn at its width) cover each pixel. Where
+// two bodies overlap, a label image shows only the one on top: a pixel there tests the order
+// at that overlap, not the pairing at the crossing being assessed.
+cv::Mat rod_body_count(const synth::SceneAnnotation& scene, cv::Size size) {
+  cv::Mat count = cv::Mat::zeros(size, CV_8UC1), body(size, CV_8UC1);
+  constexpr int kShift = 3;  // sub-pixel vertices: 1/8 px
+  for (const RodAnnotation& rod : scene.rods) {
+    if (rod.centerline.empty()) continue;
+    std::vector<cv::Point> points;
+    points.reserve(rod.centerline.size());
+    for (const cv::Point2d& p : rod.centerline)
+      points.emplace_back(cvRound(p.x * (1 << kShift)), cvRound(p.y * (1 << kShift)));
+    body.setTo(0);
+    cv::polylines(body, points, rod.closed, cv::Scalar(1),
+                  std::max(1, static_cast<int>(std::lround(rod.width_px))), cv::LINE_8, kShift);
+    count += body;
+  }
+  return count;
+}
+
 // The most frequent predicted label (0 included) over the disc's pixels; when `only_gt` is
-// non-zero, over the disc's pixels whose ground-truth label is `only_gt`.
+// non-zero, over the disc's pixels whose ground-truth label is `only_gt` and which no other
+// rod's body covers (`bodies`: rod_body_count).
 int majority_label(const cv::Mat& pred16, const cv::Mat& gt16, cv::Point2d centre, double radius,
-                   int only_gt) {
+                   int only_gt, const cv::Mat& bodies = cv::Mat()) {
   std::map<int, int> votes;
   const int r = static_cast<int>(std::ceil(radius));
   const cv::Point c(cvRound(centre.x), cvRound(centre.y));
@@ -30,6 +53,7 @@ int majority_label(const cv::Mat& pred16, const cv::Mat& gt16, cv::Point2d centr
       const cv::Point p(c.x + dx, c.y + dy);
       if (p.x < 0 || p.y < 0 || p.x >= pred16.cols || p.y >= pred16.rows) continue;
       if (only_gt != 0 && label_at(gt16, p) != only_gt) continue;
+      if (only_gt != 0 && !bodies.empty() && bodies.at<uint8_t>(p) > 1) continue;
       ++votes[label_at(pred16, p)];
     }
   }
@@ -53,9 +77,11 @@ struct Strand {
 // The centerline point of `s` where it is clear of the crossing with `other`, walking in
 // `direction` (+1 or -1) along the rod; nullopt when the rod ends (or the walk limit is hit)
 // first. The other strand is the part of its rod nearer (in samples) to its own crossing
-// index than to ours: this separates the two strands of a self-crossing.
+// index than to ours: this separates the two strands of a self-crossing. The sample is where
+// the strand lies alone: visible, and no other rod's body overlaps it (`bodies`).
 std::optional<cv::Point2d> clear_sample(const Strand& s, const Strand& other, int direction,
-                                        const cv::Mat& gt16, const CrossingOptions& o) {
+                                        const cv::Mat& gt16, const cv::Mat& bodies,
+                                        const CrossingOptions& o) {
   const std::vector<cv::Point2d>& line = s.rod->centerline;
   const std::vector<cv::Point2d>& other_line = other.rod->centerline;
   const int size = static_cast<int>(line.size());
@@ -87,7 +113,8 @@ std::optional<cv::Point2d> clear_sample(const Strand& s, const Strand& other, in
     if (arc > max_walk) return std::nullopt;
     if (arc < o.offset_widths * width) continue;
     const cv::Point2d p = line[i];
-    if (label_at(gt16, cv::Point(cvRound(p.x), cvRound(p.y))) != s.rod->id) continue;
+    const cv::Point pixel(cvRound(p.x), cvRound(p.y));
+    if (label_at(gt16, pixel) != s.rod->id || bodies.at<uint8_t>(pixel) > 1) continue;
     double nearest = std::numeric_limits<double>::infinity();
     for (const cv::Point2d& q : other_points) nearest = std::min(nearest, cv::norm(p - q));
     if (nearest >= clearance) return p;
@@ -103,6 +130,7 @@ std::vector<CrossingResolution> crossing_resolution(const synth::SceneAnnotation
                                                     const DiceScore& dice,
                                                     const CrossingOptions& options) {
   const cv::Mat gt16 = labels_16u(gt_labels), pred16 = labels_16u(pred_labels);
+  const cv::Mat bodies = scene.crossings.empty() ? cv::Mat() : rod_body_count(scene, gt16.size());
   std::map<int, const RodAnnotation*> rods;
   for (const RodAnnotation& r : scene.rods) rods[r.id] = &r;
 
@@ -134,11 +162,11 @@ std::vector<CrossingResolution> crossing_resolution(const synth::SceneAnnotation
     }
 
     const auto sample = [&](const Strand& s, const Strand& other, int direction, int* label) {
-      const std::optional<cv::Point2d> p = clear_sample(s, other, direction, gt16, options);
+      const std::optional<cv::Point2d> p = clear_sample(s, other, direction, gt16, bodies, options);
       if (!p) return false;
       *label = majority_label(pred16, gt16, *p, std::max(1.0, options.disc_radius_widths *
                                                                   s.rod->width_px),
-                              s.rod->id);
+                              s.rod->id, bodies);
       return true;
     };
     const bool sampled = sample(a, b, -1, &r.a_before) && sample(a, b, +1, &r.a_after) &&

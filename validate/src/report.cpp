@@ -215,7 +215,8 @@ std::string definitions(const Evaluation& e) {
          "strict score below 90 % and 95 %, images with n != m.";
   if (synthetic(e))
     out << " Crossings: a strand is sampled at the first centerline point at least 1.5 widths "
-           "of arc from the crossing, clear of the other strand and visible in the ground truth; "
+           "of arc from the crossing, clear of the other strand, visible in the ground truth and "
+           "overlapped by no other rod's body (votes there read the order of that overlap); "
            "pairing is correct when each strand keeps one predicted label across the crossing "
            "and two rods keep different labels; order is correct when the predicted label at "
            "the crossing is the one matched to the top rod (not assessed for self-crossings). "

@@ -15,7 +15,9 @@ namespace mbest::validate {
 struct CrossingOptions {
   // A strand is sampled where it is clear of the crossing: at least this many rod widths of
   // arc from the crossing, its centre at least (w_a + w_b) / 2 + 1 px from the other strand,
-  // and visible in the ground truth (no third rod on top). The walk gives up after
+  // visible in the ground truth (no third rod on top) and overlapped by no other rod's body
+  // (where two bodies overlap the label shows the order there, not this pairing; the votes
+  // of the disc below skip such pixels too). The walk gives up after
   // max_walk_widths widths of arc: the crossing is then not assessed.
   double offset_widths = 1.5;
   double max_walk_widths = 40;
