@@ -113,7 +113,7 @@ uint8_t middle_byte(const std::array<int, 256>& histogram, int count) {
 
 }  // namespace
 
-void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& bgr, float scale,
+void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& bgr,
                           BranchTangent* t, int stretch) {
   const Branch& b = g.branches[end.branch];
   const int n = static_cast<int>(b.pixels.size());
@@ -134,7 +134,7 @@ void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& 
     const cv::Point2f normal = norm > 0 ? cv::Point2f(-along.y, along.x) * (1 / norm)
                                         : cv::Point2f(-t->direction.y, t->direction.x);
     for (const float s : {-offset, 0.f, offset}) {
-      const cv::Point2f q = (px(i) + normal * s) * scale + cv::Point2f(0.5f, 0.5f) * (scale - 1);
+      const cv::Point2f q = px(i) + normal * s;
       const int x = cvRound(q.x), y = cvRound(q.y);
       if (x < 0 || y < 0 || x >= bgr.cols || y >= bgr.rows) continue;
       at.push_back(bgr.ptr<uint8_t>(y) + 3 * x);
@@ -236,7 +236,7 @@ BranchTangent exit_tangent(const SkeletonGraph& g, BranchEnd e, const PairingSet
   const bool shared = g.nodes[b.node[1 - e.side]].kind == Node::Kind::junction;
   BranchTangent t = fit_branch_tangent(g, e, s.cut_length, s.fit_length, shared);
   if (s.colour_weight > 0)
-    sample_branch_colour(g, e, s.bgr, s.scale, &t,
+    sample_branch_colour(g, e, s.bgr, &t,
                          static_cast<int>(std::lround(kColourStretchFits * s.fit_length)));
   return t;
 }

@@ -13,7 +13,6 @@
 #include "mbest/core/junctions.h"
 #include "mbest/core/keypoints.h"
 #include "mbest/core/prune.h"
-#include "mbest/core/resolution.h"
 #include "mbest/core/skeleton.h"
 #include "mbest/core/traverse.h"
 
@@ -119,7 +118,6 @@ constexpr ConfigField kConfigFields[] = {
     {"merge_radii", &DetectorConfig::merge_radii, 0, 100},
     {"epsilon_radii", &DetectorConfig::epsilon_radii, 0, 1000},
     {"wide_radii", &DetectorConfig::wide_radii, 0, 1000},
-    {"half_resolution_radius", &DetectorConfig::half_resolution_radius, 0, 1000},
     {"colour_weight", &DetectorConfig::colour_weight, 0, 100},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000}};
 
@@ -179,33 +177,20 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
 
   Detection det;
   StageClock stage(det.timings);
-  // Wide DLOs are traced at half resolution (resolution.h); where they turn out thinner than
-  // config.half_resolution_radius there, tracing starts again at full resolution.
-  bool half = config.half_resolution_radius > 0 && mask.rows >= 32 && mask.cols >= 32;
-  cv::Mat work = half ? stage("half_resolution", [&] { return half_resolution(mask); }) : mask;
+  Skeleton skeleton = stage("skeleton", [&] { return skeletonize(mask); });
   float r = 0;
-  auto trace_skeleton = [&](const char* skeleton_stage, const char* keypoints_stage) {
-    Skeleton skeleton = stage(skeleton_stage, [&] { return skeletonize(work); });
-    return stage(keypoints_stage, [&] {
-      SkeletonGraph g = build_skeleton_graph(skeleton, detect_keypoints(skeleton));
-      r = std::max(1.0f, measure_radii(g, work));
-      return g;
-    });
-  };
-  SkeletonGraph graph = trace_skeleton("skeleton", "keypoints");
-  if (half && 2 * r < config.half_resolution_radius) {
-    half = false;
-    work = mask;
-    graph = trace_skeleton("skeleton_full_resolution", "keypoints_full_resolution");
-  }
-  const ColourSource colour{config.colour_weight > 0 ? bgr : cv::Mat(), half ? 2.f : 1.f, r};
-  stage("prune", [&] { return prune_split_ends(graph, 2 * r, work.size(), colour); });
+  SkeletonGraph graph = stage("keypoints", [&] {
+    SkeletonGraph g = build_skeleton_graph(skeleton, detect_keypoints(skeleton));
+    r = std::max(1.0f, measure_radii(g, mask));
+    return g;
+  });
+  const ColourSource colour{config.colour_weight > 0 ? bgr : cv::Mat(), r};
+  stage("prune", [&] { return prune_split_ends(graph, 2 * r, mask.size(), colour); });
   auto regions = stage("junctions", [&] {
     return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,
                            config.wide_radii * r);
   });
-  const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr, half ? 2.f : 1.f,
-                             config.colour_weight};
+  const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr, config.colour_weight};
   auto passages = stage("bending", [&] {
     TangentCache tangents(graph, pairing);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
@@ -215,9 +200,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);
   });
-  if (half)
-    stage("full_resolution", [&] { to_full_resolution(traversal, passages, regions, mask); });
-  stage("extend_ends", [&] { extend_ends(traversal.dlos, mask, half ? 2 * r : r); });
+  stage("extend_ends", [&] { extend_ends(traversal.dlos, mask, r); });
   auto ordered = stage("crossing_order", [&] {
     return order_crossings(passages, static_cast<int>(regions.size()), bgr);
   });

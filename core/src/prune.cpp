@@ -61,14 +61,14 @@ bool joins_two_colours(const SkeletonGraph& g, int i, int end_side, const Colour
   std::vector<BranchTangent> sampled;
   const BranchEnd tip{i, end_side};
   sampled.push_back(fit_branch_tangent(g, tip, 0, 3 * colour.radius, false));
-  sample_branch_colour(g, tip, colour.bgr, colour.scale, &sampled.back(),
+  sample_branch_colour(g, tip, colour.bgr, &sampled.back(),
                        std::max(1, static_cast<int>(spur.pixels.size()) / 2));
   for (const BranchEnd& e : junction.branch_ends) {
     const Branch& other = g.branches[e.branch];
     if (e.branch == i || !other.alive) continue;
     const bool shared = g.nodes[other.node[1 - e.side]].kind == Node::Kind::junction;
     sampled.push_back(fit_branch_tangent(g, e, colour.radius, 3 * colour.radius, shared));
-    sample_branch_colour(g, e, colour.bgr, colour.scale, &sampled.back(),
+    sample_branch_colour(g, e, colour.bgr, &sampled.back(),
                          static_cast<int>(std::lround(kColourStretchFits * 3 * colour.radius)));
   }
   // A thin prong of a forked tip is mostly the tip's shaded edge: its own colour counts

@@ -163,7 +163,7 @@ Bundle bundle() {
 
 TEST(Bending, RegionsThatPairBetterTogetherAreMerged) {
   Bundle b = bundle();
-  const PairingSetup setup{2, 8, b.bgr, 1, 2.0};
+  const PairingSetup setup{2, 8, b.bgr, 2.0};
   Bundle kept = b;
   TangentCache kept_tangents(kept.graph, setup), tangents(b.graph, setup);
   EXPECT_EQ(merge_regions_by_pairing_cost(kept.graph, kept.regions, kept_tangents, 60, 1000), 0)

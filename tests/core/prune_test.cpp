@@ -20,7 +20,9 @@ TEST(Prune, BumpOnTheSideOfARodIsASplitEnd) {
   ASSERT_GE(spurs_before, 1) << "the bump should make a spur";
   EXPECT_GE(prune_split_ends(g, 2 * r, mask.size()), 1);
   for (const Branch& b : g.branches)
-    if (b.alive) EXPECT_GE(b.length, 2 * r);
+    if (b.alive) {
+      EXPECT_GE(b.length, 2 * r);
+    }
 }
 
 TEST(Prune, ShortIsolatedPieceAndLongBranchesStay) {
@@ -111,7 +113,7 @@ TEST(Prune, EndOfARodLyingOnAnotherOfAnotherColourStays) {
       SkeletonGraph plain = g;
       ASSERT_EQ(prune_split_ends(plain, 2 * r, s.mask.size()), 1)
           << "angle " << angle << ": the scene should make one spur";
-      EXPECT_EQ(prune_split_ends(g, 2 * r, s.mask.size(), ColourSource{s.bgr, 1, r}),
+      EXPECT_EQ(prune_split_ends(g, 2 * r, s.mask.size(), ColourSource{s.bgr, r}),
                 same_colour ? 1 : 0)
           << "angle " << angle << (same_colour ? ", one colour" : ", two colours");
     }
@@ -141,7 +143,7 @@ TEST(Prune, StubOfAnotherColourPastAShallowCrossingStays) {
     SkeletonGraph plain = g;
     ASSERT_GE(prune_split_ends(plain, 2 * r, mask.size()), 1)
         << "angle " << angle << ": without colour the stub should look like a split end";
-    EXPECT_EQ(prune_split_ends(g, 2 * r, mask.size(), ColourSource{bgr, 1, r}), 0) << "angle " << angle;
+    EXPECT_EQ(prune_split_ends(g, 2 * r, mask.size(), ColourSource{bgr, r}), 0) << "angle " << angle;
   }
 }
 

@@ -48,10 +48,9 @@ double bending_energy(const BranchTangent& in, const BranchTangent& out);
 // past t->reach), at the skeleton pixels and half a radius to either side of them
 // (highlights sit in the middle of a tube), and stores the per-channel median in CIE Lab in
 // t->colour. A long stretch outvotes the overlap next to a shallow crossing, where the top
-// strand's colour covers the branch. `scale` maps graph pixels to image pixels (2 when the
-// graph was traced at half resolution).
+// strand's colour covers the branch.
 void sample_branch_colour(const SkeletonGraph& graph, BranchEnd end, const cv::Mat& bgr,
-                          float scale, BranchTangent* t, int stretch);
+                          BranchTangent* t, int stretch);
 // build_passages samples this many tangent-fit lengths (4 x 3 r = 12 r): 3 r and 6 r let
 // the overlap of a 25-35 degree crossing decide a branch's colour.
 inline constexpr double kColourStretchFits = 4.0;
@@ -86,13 +85,12 @@ struct Passage {
 };
 
 // How exits are summarised and paired: tangents skip `cut_length` px next to the crossing
-// and are fitted over the next `fit_length` px; with an image (`bgr` not empty, graph
-// pixels times `scale` = image pixels) and `colour_weight` > 0, exits of different colour
-// are paired reluctantly (colour_penalty).
+// and are fitted over the next `fit_length` px; with an image (`bgr` not empty, the mask's
+// size) and `colour_weight` > 0, exits of different colour are paired reluctantly
+// (colour_penalty).
 struct PairingSetup {
   double cut_length = 0, fit_length = 0;
   cv::Mat bgr;
-  float scale = 1;
   double colour_weight = 0;
 };
 

@@ -54,11 +54,6 @@ struct DetectorConfig {
   double merge_radii = 2.0;  // junctions joined by a shorter branch are one crossing
   double epsilon_radii = 10.0;  // Ys joined by a shorter branch are one crossing (paper)
   double wide_radii = 30.0;  // ... or by a branch up to this long, if it is wider than a DLO
-  // Speed mode, off by default: masks whose widest DLO has at least this radius in pixels
-  // are traced at half resolution (resolution.h). With 6 on the mbest-real dev set: about
-  // 1.7x faster, strict DICE 0.05-0.07 points lower; shallow crossings and tight loops of
-  // narrower DLOs are resolved less reliably. 0 = always full resolution.
-  double half_resolution_radius = 0.0;
   // With the colour image: how much a colour change between two exits of a crossing weighs
   // against pairing them (bending.h, colour_penalty). 0 = geometry alone, as in the paper.
   double colour_weight = 2.0;

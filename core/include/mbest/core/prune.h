@@ -7,11 +7,10 @@
 
 namespace mbest {
 
-// The colour image for colour-aware decisions: `bgr` (empty = none), `scale` = image pixels
-// per graph pixel, `radius` = the widest DLO's radius in graph pixels.
+// The colour image for colour-aware decisions: `bgr` (empty = none), `radius` = the widest
+// DLO's radius in pixels.
 struct ColourSource {
   cv::Mat bgr;
-  float scale = 1;
   double radius = 1;
 };
 
