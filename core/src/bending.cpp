@@ -354,4 +354,86 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
   }
 }
 
+int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, TangentCache& cache,
+                 double min_link, double max_link, double max_cost) {
+  if (max_cost <= 0) return 0;
+  const PairingSetup& setup = cache.setup();
+  // The exit a region with an odd exit count leaves unpaired (a DLO's end), -1 if none.
+  const auto lone_exit = [&](const CrossingRegion& r) {
+    const std::vector<BranchTangent> t = cache.of(r.exits);
+    std::vector<bool> paired(r.exits.size(), false);
+    for (const auto& [a, b] : min_energy_pairing(t, setup.colour_weight)) paired[a] = paired[b] = true;
+    for (size_t k = 0; k < paired.size(); ++k)
+      if (!paired[k]) return static_cast<int>(k);
+    return -1;
+  };
+  std::vector<int> region_of(g.nodes.size(), -1);
+  for (int r = 0; r < static_cast<int>(regions.size()); ++r)
+    for (int n : regions[r].nodes) region_of[n] = r;
+  struct Candidate {
+    double cost;
+    int link, ra, rb;
+    std::vector<BranchEnd> exits;
+  };
+  std::vector<Candidate> candidates;
+  for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
+    const Branch& b = g.branches[i];
+    if (!b.alive || b.length <= min_link || b.length > max_link) continue;
+    const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
+    if (ra < 0 || rb < 0 || ra == rb) continue;
+    const CrossingRegion &a = regions[ra], &c = regions[rb];
+    if (a.exits.size() % 2 == 0 || c.exits.size() % 2 == 0) continue;
+    const int la = lone_exit(a), lc = lone_exit(c);
+    if (la < 0 || lc < 0 || a.exits[la].branch == i || c.exits[lc].branch == i) continue;
+    const BranchTangent ta = cache.of({a.exits[la]})[0], tc = cache.of({c.exits[lc]})[0];
+    const double cost = pair_cost(ta, tc, setup.colour_weight);
+    if (cost > max_cost) continue;
+    std::vector<BranchEnd> exits;
+    for (const auto* list : {&a.exits, &c.exits})
+      for (const BranchEnd& e : *list)
+        if (e.branch != i) exits.push_back(e);
+    if (exits.size() > 10) continue;
+    // Together, the two ends must pair with each other.
+    const std::vector<BranchTangent> t = cache.of(exits);
+    bool together = false;
+    const BranchEnd ea = a.exits[la], ec = c.exits[lc];
+    for (const auto& [x, y] : min_energy_pairing(t, setup.colour_weight)) {
+      const BranchEnd &u = exits[x], &v = exits[y];
+      const auto same = [](const BranchEnd& p, const BranchEnd& q) {
+        return p.branch == q.branch && p.side == q.side;
+      };
+      together |= (same(u, ea) && same(v, ec)) || (same(u, ec) && same(v, ea));
+    }
+    if (together) candidates.push_back({cost, i, ra, rb, std::move(exits)});
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& x, const Candidate& y) { return x.cost < y.cost; });
+  std::vector<bool> used(regions.size(), false), erase(regions.size(), false);
+  int merged = 0;
+  for (Candidate& k : candidates) {
+    if (used[k.ra] || used[k.rb]) continue;
+    used[k.ra] = used[k.rb] = erase[k.rb] = true;
+    CrossingRegion& a = regions[k.ra];
+    const CrossingRegion& c = regions[k.rb];
+    a.nodes.insert(a.nodes.end(), c.nodes.begin(), c.nodes.end());
+    a.inner_branches.insert(a.inner_branches.end(), c.inner_branches.begin(), c.inner_branches.end());
+    a.inner_branches.push_back(k.link);
+    a.exits = std::move(k.exits);
+    cv::Point2f centre(0, 0);
+    for (int n : a.nodes) centre += g.nodes[n].centre;
+    a.centre = centre * (1.0f / static_cast<float>(a.nodes.size()));
+    g.branches[k.link].alive = false;
+    ++merged;
+  }
+  if (merged == 0) return 0;
+  int kept = 0;
+  for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
+    if (erase[r]) continue;
+    if (kept != r) regions[kept] = std::move(regions[r]);
+    ++kept;
+  }
+  regions.resize(kept);
+  return merged;
+}
+
 }  // namespace mbest

@@ -119,7 +119,8 @@ constexpr ConfigField kConfigFields[] = {
     {"epsilon_radii", &DetectorConfig::epsilon_radii, 0, 1000},
     {"wide_radii", &DetectorConfig::wide_radii, 0, 1000},
     {"colour_weight", &DetectorConfig::colour_weight, 0, 100},
-    {"merge_gain", &DetectorConfig::merge_gain, 0, 1000}};
+    {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
+    {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000}};
 
 std::string out_of_range(const ConfigField& f, const std::string& value) {
   char range[64];
@@ -193,6 +194,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr, config.colour_weight};
   auto passages = stage("bending", [&] {
     TangentCache tangents(graph, pairing);
+    pair_lone_ys(graph, regions, tangents, config.epsilon_radii * r, config.wide_radii * r,
+                 config.lone_y_cost);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
                                   config.merge_gain);
     return build_passages(regions, tangents);

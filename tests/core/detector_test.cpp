@@ -160,6 +160,36 @@ TEST(Detector, NearParallelCrossingFromTwoYs) {
   EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
 }
 
+// A thin rod passing along a wide one at a shallow angle lies inside it for a long stretch:
+// the mask shows the wide rod with a thin branch on either side, two Ys further apart than
+// Y-pair matching reaches and joined by a branch no wider than the wide rod.
+TEST(Detector, ThinRodAlongAWideOneIsOneCrossing) {
+  for (double angle : {7.0, 9.0}) {
+    std::vector<cv::Mat> gt;
+    const cv::Size size(600, 300);
+    const cv::Mat wide = scene(size, {test::line_through({300, 150}, 0, 560)}, 17, &gt);
+    const cv::Mat thin = scene(size, {test::line_through({300, 150}, angle, 560)}, 5, &gt);
+    gt[0] &= ~thin;  // the thin rod on top
+    cv::Mat bgr(size, CV_8UC3, cv::Scalar(0, 0, 0));
+    bgr.setTo(cv::Scalar(40, 40, 200), gt[0]);
+    bgr.setTo(cv::Scalar(200, 90, 30), gt[1]);
+    for (const bool colour : {false, true}) {
+      auto r = detect(wide | thin, colour ? bgr : cv::Mat());
+      ASSERT_TRUE(r.ok());
+      EXPECT_EQ(r.value().dlos.size(), 2u) << angle << " deg, colour " << colour;
+      const cv::Mat& labels = r.value().labels;
+      const double t = angle * CV_PI / 180;
+      const auto at = [&](double s) {
+        return labels.at<uint16_t>(cv::Point(cvRound(300 + s * std::cos(t)), cvRound(150 + s * std::sin(t))));
+      };
+      EXPECT_NE(at(-260), 0);
+      EXPECT_EQ(at(-260), at(260)) << angle << " deg, colour " << colour << ": the thin rod split";
+      EXPECT_EQ(labels.at<uint16_t>(150, 25), labels.at<uint16_t>(150, 575))
+          << angle << " deg, colour " << colour << ": the wide rod split";
+    }
+  }
+}
+
 TEST(Detector, SelfLoopIsOneDloCrossingItself) {
   // A rod that comes from the left, loops once and leaves to the right.
   std::vector<cv::Point> rod{{20, 200}, {150, 200}};

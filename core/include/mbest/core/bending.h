@@ -121,6 +121,16 @@ class TangentCache {
   std::vector<bool> done_;
 };
 
+// Two regions with odd exit counts (each leaves one strand ending there) joined by a branch
+// longer than `min_link` (Y-pair matching took the shorter ones) and at most `max_link`:
+// one crossing when the two strands left alone continue each other (they pair together in
+// the joined region's minimal energy pairing, at a cost of at most `max_cost`). Such a pair
+// is a thin DLO passing under or over a wide one at a shallow angle: where it lies within
+// the wide one's width, the mask shows one DLO with a thin branch on either side. Cheapest
+// first, each region once. Returns the pairs joined.
+int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, TangentCache& cache,
+                 double min_link, double max_link, double max_cost);
+
 // Junction grouping decides by distance; where three strands cross near one point the
 // skeleton may split the crossing into two regions a few radii apart, and each alone can
 // only pair its exits wrongly. Two regions with even exit counts joined by a branch no

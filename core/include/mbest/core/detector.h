@@ -61,6 +61,11 @@ struct DetectorConfig {
   // pairing their exits together costs this much less (bending energy units) than pairing
   // each alone (bending.h, merge_regions_by_pairing_cost). Large values turn it off.
   double merge_gain = 1.0;
+  // Two Ys joined by a branch longer than epsilon_radii and up to wide_radii, each leaving
+  // a strand ending there, are one crossing when those two strands continue each other at
+  // a pairing cost (bending energy plus colour) of at most this (bending.h, pair_lone_ys):
+  // a thin DLO passing along a wide one at a shallow angle. 0 turns it off.
+  double lone_y_cost = 2.0;
 };
 
 // Reads a DetectorConfig from a JSON object of the fields above (all optional). Unknown
