@@ -44,6 +44,20 @@ void search(const std::vector<std::vector<double>>& e, std::vector<int>& left, i
   left.push_back(a);
 }
 
+// Makes region `c` part of region `a` through their `link` branch (marked dead, now inner):
+// `a` takes c's nodes and inner branches, `exits` and the mean centre of all its nodes.
+void absorb_region(SkeletonGraph& g, CrossingRegion& a, const CrossingRegion& c, int link,
+                   std::vector<BranchEnd> exits) {
+  a.nodes.insert(a.nodes.end(), c.nodes.begin(), c.nodes.end());
+  a.inner_branches.insert(a.inner_branches.end(), c.inner_branches.begin(), c.inner_branches.end());
+  a.inner_branches.push_back(link);
+  a.exits = std::move(exits);
+  cv::Point2f centre(0, 0);
+  for (int n : a.nodes) centre += g.nodes[n].centre;
+  a.centre = centre * (1.0f / static_cast<float>(a.nodes.size()));
+  g.branches[link].alive = false;
+}
+
 }  // namespace
 
 BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double cut_length,
@@ -337,18 +351,9 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       }
     }
     if (best_link < 0) return merged;
-    Branch& link = g.branches[best_link];
+    const Branch& link = g.branches[best_link];
     const int ra = region_of[link.node[0]], rb = region_of[link.node[1]];
-    CrossingRegion& a = regions[ra];
-    const CrossingRegion& c = regions[rb];
-    a.nodes.insert(a.nodes.end(), c.nodes.begin(), c.nodes.end());
-    a.inner_branches.insert(a.inner_branches.end(), c.inner_branches.begin(), c.inner_branches.end());
-    a.inner_branches.push_back(best_link);
-    a.exits = std::move(best_exits);
-    cv::Point2f centre(0, 0);
-    for (int n : a.nodes) centre += g.nodes[n].centre;
-    a.centre = centre * (1.0f / static_cast<float>(a.nodes.size()));
-    link.alive = false;
+    absorb_region(g, regions[ra], regions[rb], best_link, std::move(best_exits));
     regions.erase(regions.begin() + rb);
     ++merged;
   }
@@ -397,13 +402,8 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     const std::vector<BranchTangent> t = cache.of(exits);
     bool together = false;
     const BranchEnd ea = a.exits[la], ec = c.exits[lc];
-    for (const auto& [x, y] : min_energy_pairing(t, setup.colour_weight)) {
-      const BranchEnd &u = exits[x], &v = exits[y];
-      const auto same = [](const BranchEnd& p, const BranchEnd& q) {
-        return p.branch == q.branch && p.side == q.side;
-      };
-      together |= (same(u, ea) && same(v, ec)) || (same(u, ec) && same(v, ea));
-    }
+    for (const auto& [x, y] : min_energy_pairing(t, setup.colour_weight))
+      together |= (exits[x] == ea && exits[y] == ec) || (exits[x] == ec && exits[y] == ea);
     if (together) candidates.push_back({cost, i, ra, rb, std::move(exits)});
   }
   std::sort(candidates.begin(), candidates.end(),
@@ -413,16 +413,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
   for (Candidate& k : candidates) {
     if (used[k.ra] || used[k.rb]) continue;
     used[k.ra] = used[k.rb] = erase[k.rb] = true;
-    CrossingRegion& a = regions[k.ra];
-    const CrossingRegion& c = regions[k.rb];
-    a.nodes.insert(a.nodes.end(), c.nodes.begin(), c.nodes.end());
-    a.inner_branches.insert(a.inner_branches.end(), c.inner_branches.begin(), c.inner_branches.end());
-    a.inner_branches.push_back(k.link);
-    a.exits = std::move(k.exits);
-    cv::Point2f centre(0, 0);
-    for (int n : a.nodes) centre += g.nodes[n].centre;
-    a.centre = centre * (1.0f / static_cast<float>(a.nodes.size()));
-    g.branches[k.link].alive = false;
+    absorb_region(g, regions[k.ra], regions[k.rb], k.link, std::move(k.exits));
     ++merged;
   }
   if (merged == 0) return 0;
