@@ -333,7 +333,8 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
       if (ra < 0 || rb < 0 || ra == rb) continue;
       const CrossingRegion &a = regions[ra], &c = regions[rb];
-      if (a.exits.size() % 2 || c.exits.size() % 2) continue;  // a strand ends there
+      // Two strands end there, one each: joining would pair them (pair_lone_ys).
+      if (a.exits.size() % 2 && c.exits.size() % 2) continue;
       std::vector<BranchEnd> exits;
       for (const auto* list : {&a.exits, &c.exits})
         for (const BranchEnd& e : *list)

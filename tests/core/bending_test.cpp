@@ -113,7 +113,9 @@ struct Bundle {
   std::vector<CrossingRegion> regions;
   cv::Mat bgr;
 };
-Bundle bundle() {
+// Three strands (red, blue, green) crossing near two junctions 40 px apart; with `yellow_end`
+// a yellow DLO also ends at the left one.
+Bundle bundle(bool yellow_end = false) {
   Bundle b;
   SkeletonGraph& g = b.graph;
   b.bgr = cv::Mat(200, 240, CV_8UC3, cv::Scalar(0, 0, 0));
@@ -150,6 +152,7 @@ Bundle bundle() {
   branch(j2, node({210, 100}, Node::Kind::end), red);
   branch(j2, node({190, 150}, Node::Kind::end), blue);
   branch(j2, node({190, 50}, Node::Kind::end), green);
+  if (yellow_end) branch(node({100, 20}, Node::Kind::end), j1, cv::Scalar(30, 210, 230));
   branch(j1, j2, red);  // drawn last: the link shows the top strand's colour
   for (int j : {j1, j2}) {
     CrossingRegion r;
@@ -180,6 +183,32 @@ TEST(Bending, RegionsThatPairBetterTogetherAreMerged) {
   for (const auto& [i, j] : min_energy_pairing(t, setup.colour_weight)) {
     EXPECT_LT(t[i].direction.dot(t[j].direction), -0.95) << "strands run straight through";
     EXPECT_EQ(colour_penalty(t[i], t[j]), 0);
+  }
+}
+
+// Where a DLO also ends at one of the two regions, that region has an odd exit count; the
+// merge leaves one exit unpaired either way, so the comparison still holds.
+TEST(Bending, RegionWhereAStrandEndsMergesToo) {
+  Bundle b = bundle(/*yellow_end=*/true);
+  ASSERT_EQ(b.regions[0].exits.size(), 5u);
+  const PairingSetup setup{2, 8, b.bgr, 2.0};
+  TangentCache tangents(b.graph, setup);
+  ASSERT_EQ(merge_regions_by_pairing_cost(b.graph, b.regions, tangents, 60, 1.0), 1);
+  ASSERT_EQ(b.regions.size(), 1u);
+  const CrossingRegion& r = b.regions[0];
+  ASSERT_EQ(r.exits.size(), 7u);
+  const std::vector<BranchTangent> t = exit_tangents(b.graph, r.exits, setup);
+  const auto pairs = min_energy_pairing(t, setup.colour_weight);
+  ASSERT_EQ(pairs.size(), 3u);
+  std::vector<bool> paired(r.exits.size(), false);
+  for (const auto& [i, j] : pairs) {
+    paired[i] = paired[j] = true;
+    EXPECT_LT(t[i].direction.dot(t[j].direction), -0.95) << "strands run straight through";
+  }
+  for (size_t k = 0; k < r.exits.size(); ++k) {
+    if (paired[k]) continue;
+    EXPECT_EQ(b.graph.nodes[b.graph.branches[r.exits[k].branch].node[0]].centre,
+              cv::Point2f(100, 20)) << "the yellow DLO ends here";
   }
 }
 

@@ -133,10 +133,13 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 
 // Junction grouping decides by distance; where three strands cross near one point the
 // skeleton may split the crossing into two regions a few radii apart, and each alone can
-// only pair its exits wrongly. Two regions with even exit counts joined by a branch no
-// longer than `max_link` become one when pairing their exits together costs at least
-// `min_gain` less than pairing each alone (the link becomes inner and is marked dead);
-// best gain first, repeated while one qualifies, up to 10 exits. Returns the merges made.
+// only pair its exits wrongly. Two regions joined by a branch no longer than `max_link`
+// become one when pairing their exits together costs at least `min_gain` less than pairing
+// each alone (the link becomes inner and is marked dead); best gain first, repeated while
+// one qualifies, up to 10 exits. At most one of the two may have an odd exit count (a DLO
+// ends there, e.g. on the crossing of two others): the joined region then leaves one exit
+// unpaired too, so the costs compare like with like; two odd ones are pair_lone_ys's case.
+// Returns the merges made.
 int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
                                   TangentCache& tangents, double max_link, double min_gain);
 
