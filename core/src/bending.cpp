@@ -44,6 +44,14 @@ void search(const std::vector<std::vector<double>>& e, std::vector<int>& left, i
   left.push_back(a);
 }
 
+// For each graph node, the index of the region holding it (-1: none).
+std::vector<int> region_of_nodes(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions) {
+  std::vector<int> region_of(g.nodes.size(), -1);
+  for (int r = 0; r < static_cast<int>(regions.size()); ++r)
+    for (int n : regions[r].nodes) region_of[n] = r;
+  return region_of;
+}
+
 // Makes region `c` part of region `a` through their `link` branch (marked dead, now inner):
 // `a` takes c's nodes and inner branches, `exits` and the mean centre of all its nodes.
 void absorb_region(SkeletonGraph& g, CrossingRegion& a, const CrossingRegion& c, int link,
@@ -320,9 +328,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
   };
   int merged = 0;
   for (;;) {
-    std::vector<int> region_of(g.nodes.size(), -1);
-    for (int r = 0; r < static_cast<int>(regions.size()); ++r)
-      for (int n : regions[r].nodes) region_of[n] = r;
+    const std::vector<int> region_of = region_of_nodes(g, regions);
     std::vector<double> cost(regions.size(), -1);
     double best_gain = min_gain;
     int best_link = -1;
@@ -373,9 +379,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
       if (!paired[k]) return static_cast<int>(k);
     return -1;
   };
-  std::vector<int> region_of(g.nodes.size(), -1);
-  for (int r = 0; r < static_cast<int>(regions.size()); ++r)
-    for (int n : regions[r].nodes) region_of[n] = r;
+  const std::vector<int> region_of = region_of_nodes(g, regions);
   struct Candidate {
     double cost;
     int link, ra, rb;
