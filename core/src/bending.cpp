@@ -66,6 +66,30 @@ void absorb_region(SkeletonGraph& g, CrossingRegion& a, const CrossingRegion& c,
   g.branches[link].alive = false;
 }
 
+// The tangent at point(first) of the chain point(first..last) (unit, pointing along it):
+// the derivative at arc length 0 of the least-squares quadratics x(s), y(s). Zero when the
+// normal equations are singular.
+template <class Point>
+cv::Point2f quadratic_tangent(Point point, int first, int last) {
+  double S[5] = {0, 0, 0, 0, 0}, X[3] = {0, 0, 0}, Y[3] = {0, 0, 0}, s = 0;
+  const cv::Point origin = point(first);
+  for (int i = first; i <= last; ++i) {
+    const cv::Point p = point(i);
+    if (i > first) s += std::hypot(p.x - point(i - 1).x, p.y - point(i - 1).y);
+    const double dx = p.x - origin.x, dy = p.y - origin.y;
+    double power = 1;
+    for (double& sk : S) sk += power, power *= s;
+    X[0] += dx, X[1] += dx * s, X[2] += dx * s * s;
+    Y[0] += dy, Y[1] += dy * s, Y[2] += dy * s * s;
+  }
+  const cv::Matx33d normal(S[0], S[1], S[2], S[1], S[2], S[3], S[2], S[3], S[4]);
+  const double det = cv::determinant(normal);
+  if (!(std::abs(det) > 1e-9)) return {0, 0};
+  const cv::Matx33d inverse = normal.inv(cv::DECOMP_LU);
+  const cv::Vec3d ax = inverse * cv::Vec3d(X[0], X[1], X[2]), ay = inverse * cv::Vec3d(Y[0], Y[1], Y[2]);
+  return unit(cv::Point2f(static_cast<float>(ax[1]), static_cast<float>(ay[1])));
+}
+
 }  // namespace
 
 BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double cut_length,
@@ -80,7 +104,7 @@ BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double c
   if (n == 0) {
     const cv::Point2f other = g.nodes[b.node[1 - end.side]].centre;
     t.point = node_centre;
-    t.direction = unit(other - node_centre);
+    t.direction = t.path_direction = unit(other - node_centre);
     return t;
   }
   const int usable = shared ? std::max(1, n / 2) : n;
@@ -116,6 +140,15 @@ BranchTangent fit_branch_tangent(const SkeletonGraph& g, BranchEnd end, double c
   if (dir.dot(along) < 0) dir = -dir;
   if (m < 2 || sxx + syy == 0) dir = unit(along);
   t.direction = dir;
+
+  // A quadratic needs the longer stretch to be steady: on a branch too short for it (a stub
+  // at the image border), the line.
+  t.path_direction = dir;
+  const int curve_last = cut + 2 * std::max(2, static_cast<int>(std::lround(fit_length)));
+  if (curve_last <= usable - 1) {
+    const cv::Point2f curved = quadratic_tangent(px, cut, curve_last);
+    if (curved.dot(dir) > 0.5f) t.path_direction = curved;
+  }
 
   std::vector<float> r;
   for (int i = cut; i <= last; ++i) r.push_back(rad(i));
@@ -301,8 +334,8 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
       p.from_tangent = tangents[i];
       p.to_tangent = tangents[j];
       p.energy = bending_energy(tangents[i], tangents[j]);
-      p.path = hermite_path(tangents[i].point, -tangents[i].direction, tangents[j].point,
-                            tangents[j].direction);
+      p.path = hermite_path(tangents[i].point, -tangents[i].path_direction, tangents[j].point,
+                            tangents[j].path_direction);
       const size_t n = p.path.size();
       p.radius.resize(n);
       for (size_t k = 0; k < n; ++k) {

@@ -30,6 +30,46 @@ TEST(Bending, DiscreteCurvatureIsTwiceTheTangentOfHalfTheTurn) {
   EXPECT_GT(discrete_curvature(dir(0), dir(180)), 1000);
 }
 
+// A path through a crossing starts where it attaches to a branch; on a curved branch it
+// must leave along the strand's tangent there, not along the chord of the fitted stretch,
+// or it veers off the strand and the instance mask beside the crossing goes to the wrong DLO.
+TEST(Bending, PathLeavesACurvedBranchAlongItsTangentAtTheAttachment) {
+  const cv::Point2d c(60, 100);
+  const double radius = 40;  // a bend of about 13 DLO radii, common in the synthetic presets
+  SkeletonGraph g;
+  Node junction, end;
+  junction.kind = Node::Kind::junction;
+  junction.pixels = {cv::Point(100, 100)};
+  junction.centre = cv::Point2f(100, 100);
+  end.kind = Node::Kind::end;
+  Branch b;
+  for (int k = 1; k <= 400; ++k) {  // from the junction (angle 0) round to 1.4 rad
+    const double a = 1.4 * k / 400;
+    const cv::Point p(static_cast<int>(std::lround(c.x + radius * std::cos(a))),
+                      static_cast<int>(std::lround(c.y + radius * std::sin(a))));
+    if (p != junction.pixels[0] && (b.pixels.empty() || p != b.pixels.back())) b.pixels.push_back(p);
+  }
+  b.radius.assign(b.pixels.size(), 3.5f);
+  end.pixels = {b.pixels.back()};
+  end.centre = cv::Point2f(b.pixels.back());
+  b.node[0] = 0;
+  b.node[1] = 1;
+  b.length = chain_length(b.pixels);
+  g.nodes = {junction, end};
+  g.branches = {b};
+
+  const BranchTangent t = fit_branch_tangent(g, {0, 0}, 4, 12, false);
+  const double phi = std::atan2(t.point.y - c.y, t.point.x - c.x);
+  const cv::Point2f truth(static_cast<float>(-std::sin(phi)), static_cast<float>(std::cos(phi)));
+  const auto degrees_off = [&](cv::Point2f d) {
+    return std::acos(std::clamp(static_cast<double>(d.dot(truth)), -1.0, 1.0)) * 180 / M_PI;
+  };
+  EXPECT_LT(degrees_off(t.path_direction), 3.0);
+  // The chord of the fitted stretch (the pairing tangent) is the tangent further along.
+  EXPECT_GT(degrees_off(t.direction), 5.0);
+  EXPECT_GT(t.direction.dot(truth), 0.9f) << "both point away from the crossing";
+}
+
 TEST(Bending, XCrossingPairsStraightThrough) {
   for (double angle : {90.0, 45.0, 20.0, 10.0}) {
     const std::vector<BranchTangent> exits{exit_at(0), exit_at(angle), exit_at(180), exit_at(180 + angle)};

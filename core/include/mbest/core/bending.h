@@ -17,6 +17,11 @@ namespace mbest {
 struct BranchTangent {
   cv::Point2f point;      // the branch pixel where the path through the crossing attaches
   cv::Point2f direction;  // unit, pointing away from the crossing
+  // The branch's tangent at `point` itself (unit, away from the crossing): the line fitted
+  // for `direction` follows the chord of a curved branch, which turns off the strand's
+  // tangent at the attachment point. Paths through the crossing start along this one;
+  // pairing keeps the line (steadier, and the better pairing cue on the synthetic suite).
+  cv::Point2f path_direction;
   int cut = 0;            // pixels of the branch (from the crossing side) the path replaces
   int last = 0;           // the last fitted pixel, counted like `cut`
   int reach = 0;          // the last pixel a fit may use (half a branch shared with a crossing)
@@ -30,7 +35,9 @@ struct BranchTangent {
 // Fits the tangent of `end`'s branch: the skeleton near a junction bends towards it, so
 // the first `cut_length` px are skipped and a line is fitted (total least squares) to the
 // next `fit_length` px, never using more than half of a branch that ends in another
-// crossing (`shared` = true).
+// crossing (`shared` = true). path_direction comes from a quadratic in arc length fitted
+// over twice that stretch, differentiated at `point` (the line's direction where the
+// stretch is too short or the fit disagrees with it by more than 60 degrees).
 BranchTangent fit_branch_tangent(const SkeletonGraph& graph, BranchEnd end, double cut_length,
                                  double fit_length, bool shared);
 
