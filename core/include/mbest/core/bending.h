@@ -20,7 +20,7 @@ struct BranchTangent {
   // The branch's tangent at `point` itself (unit, away from the crossing): the line fitted
   // for `direction` follows the chord of a curved branch, which turns off the strand's
   // tangent at the attachment point. Paths through the crossing start along this one;
-  // pairing keeps the line (steadier, and the better pairing cue on the synthetic suite).
+  // pairing keeps the line (steadier, and the better pairing cue on the dev scenes).
   cv::Point2f path_direction;
   int cut = 0;            // pixels of the branch (from the crossing side) the path replaces
   int last = 0;           // the last fitted pixel, counted like `cut`
