@@ -426,23 +426,39 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     if (ra < 0 || rb < 0 || ra == rb) continue;
     const CrossingRegion &a = regions[ra], &c = regions[rb];
     if (a.exits.size() % 2 == 0 || c.exits.size() % 2 == 0) continue;
-    const int la = lone_exit(a), lc = lone_exit(c);
-    if (la < 0 || lc < 0 || a.exits[la].branch == i || c.exits[lc].branch == i) continue;
-    const BranchTangent ta = cache.of({a.exits[la]})[0], tc = cache.of({c.exits[lc]})[0];
-    const double cost = pair_cost(ta, tc, setup.colour_weight);
-    if (cost > max_cost) continue;
     std::vector<BranchEnd> exits;
     for (const auto* list : {&a.exits, &c.exits})
       for (const BranchEnd& e : *list)
         if (e.branch != i) exits.push_back(e);
     if (exits.size() > 10) continue;
-    // Together, the two ends must pair with each other.
     const std::vector<BranchTangent> t = cache.of(exits);
-    bool together = false;
-    const BranchEnd ea = a.exits[la], ec = c.exits[lc];
-    for (const auto& [x, y] : min_energy_pairing(t, setup.colour_weight))
-      together |= (exits[x] == ea && exits[y] == ec) || (exits[x] == ec && exits[y] == ea);
-    if (together) candidates.push_back({cost, i, ra, rb, std::move(exits)});
+    const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, setup.colour_weight);
+    // Either the strands each Y leaves ending continue each other (together, the two ends
+    // pair with each other) ...
+    bool joined = false;
+    double cost = 0;
+    const int la = lone_exit(a), lc = lone_exit(c);
+    if (la >= 0 && lc >= 0 && a.exits[la].branch != i && c.exits[lc].branch != i) {
+      const BranchEnd ea = a.exits[la], ec = c.exits[lc];
+      cost = pair_cost(cache.of({ea})[0], cache.of({ec})[0], setup.colour_weight);
+      if (cost <= max_cost)
+        for (const auto& [x, y] : pairs)
+          joined |= (exits[x] == ea && exits[y] == ec) || (exits[x] == ec && exits[y] == ea);
+    }
+    // ... or, for two plain Ys, both strands run through: each pair joins an exit of one Y to
+    // one of the other, at most max_cost each. (Which strand a Y alone leaves ending is a
+    // near tie at a shallow crossing; this test does not depend on it.)
+    if (!joined && a.exits.size() == 3 && c.exits.size() == 3 && pairs.size() == 2) {
+      const size_t from_a = a.exits.size() - 1;  // exits[0 .. from_a) are a's (less the link)
+      bool all = true;
+      double worst = 0;
+      for (const auto& [x, y] : pairs) {
+        all &= (static_cast<size_t>(x) < from_a) != (static_cast<size_t>(y) < from_a);
+        worst = std::max(worst, pair_cost(t[x], t[y], setup.colour_weight));
+      }
+      if (all && worst <= max_cost) joined = true, cost = worst;
+    }
+    if (joined) candidates.push_back({cost, i, ra, rb, std::move(exits)});
   }
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& x, const Candidate& y) { return x.cost < y.cost; });

@@ -252,5 +252,70 @@ TEST(Bending, RegionWhereAStrandEndsMergesToo) {
   }
 }
 
+// A shallow crossing whose overlap is long enough to split it into two Ys joined by a
+// branch: strand A from the upper left to the lower right, B from the lower left to the
+// upper right. Each Y alone pairs the strand closer to the link's direction with it and
+// leaves the other ending; here those are B at the left Y and A at the right one, which do
+// not continue each other. Both strands still run through, so the Ys are one crossing.
+TEST(Bending, TwoYsWhoseStrandsBothRunThroughAreOneCrossing) {
+  SkeletonGraph g;
+  const auto node = [&](cv::Point p, Node::Kind kind) {
+    Node n;
+    n.kind = kind;
+    n.pixels = {p};
+    n.centre = cv::Point2f(p);
+    g.nodes.push_back(n);
+    return static_cast<int>(g.nodes.size()) - 1;
+  };
+  const auto branch = [&](int from, int to) {
+    Branch br;
+    cv::LineIterator it(g.nodes[from].pixels[0], g.nodes[to].pixels[0], 8);
+    for (int k = 0; k < it.count; ++k, ++it)
+      if (k > 0 && k < it.count - 1) br.pixels.push_back(it.pos());
+    br.radius.assign(br.pixels.size(), 3.0f);
+    br.node[0] = from;
+    br.node[1] = to;
+    br.length = chain_length(br.pixels) + 2;
+    g.branches.push_back(br);
+    const int i = static_cast<int>(g.branches.size()) - 1;
+    g.nodes[from].branch_ends.push_back({i, 0});
+    g.nodes[to].branch_ends.push_back({i, 1});
+    return i;
+  };
+  const int y1 = node({100, 100}, Node::Kind::junction), y2 = node({160, 100}, Node::Kind::junction);
+  const int a_in = branch(node({40, 85}, Node::Kind::end), y1);    // 14 deg off the link
+  const int b_in = branch(node({40, 120}, Node::Kind::end), y1);   // 18 deg
+  const int b_out = branch(y2, node({220, 85}, Node::Kind::end));  // 14 deg
+  const int a_out = branch(y2, node({220, 120}, Node::Kind::end)); // 18 deg
+  branch(y1, y2);
+  std::vector<CrossingRegion> regions;
+  for (int j : {y1, y2}) {
+    CrossingRegion r;
+    r.nodes = {j};
+    r.exits = g.nodes[j].branch_ends;
+    r.centre = g.nodes[j].centre;
+    regions.push_back(r);
+  }
+  const PairingSetup setup{2, 8, cv::Mat(), 0.0};
+  TangentCache cache(g, setup);
+  // Alone, each Y leaves the strand farther from the link's direction ending.
+  for (const auto& [y, ending] : {std::pair{0, b_in}, std::pair{1, a_out}}) {
+    const std::vector<BranchTangent> t = cache.of(regions[y].exits);
+    const auto pairs = min_energy_pairing(t);
+    ASSERT_EQ(pairs.size(), 1u);
+    for (int k : {pairs[0].first, pairs[0].second}) EXPECT_NE(regions[y].exits[k].branch, ending);
+  }
+  ASSERT_EQ(pair_lone_ys(g, regions, cache, 30, 200, 2.0), 1);
+  ASSERT_EQ(regions.size(), 1u);
+  ASSERT_EQ(regions[0].exits.size(), 4u);
+  const std::vector<BranchTangent> t = cache.of(regions[0].exits);
+  for (const auto& [i, j] : min_energy_pairing(t)) {
+    const int bi = regions[0].exits[i].branch, bj = regions[0].exits[j].branch;
+    EXPECT_TRUE((bi == a_in && bj == a_out) || (bi == a_out && bj == a_in) ||
+                (bi == b_in && bj == b_out) || (bi == b_out && bj == b_in))
+        << "branches " << bi << " and " << bj;
+  }
+}
+
 }  // namespace
 }  // namespace mbest

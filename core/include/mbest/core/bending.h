@@ -133,8 +133,11 @@ class TangentCache {
 // one crossing when the two strands left alone continue each other (they pair together in
 // the joined region's minimal energy pairing, at a cost of at most `max_cost`). Such a pair
 // is a thin DLO passing under or over a wide one at a shallow angle: where it lies within
-// the wide one's width, the mask shows one DLO with a thin branch on either side. Cheapest
-// first, each region once. Returns the pairs joined.
+// the wide one's width, the mask shows one DLO with a thin branch on either side. Two plain
+// Ys (three exits each) are also one crossing when both strands run through: the joined
+// pairing joins each exit of one Y to one of the other, each pair at most `max_cost` (a
+// shallow crossing with a long overlap, where which strand each Y alone leaves ending is
+// a near tie). Cheapest first, each region once. Returns the pairs joined.
 int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, TangentCache& cache,
                  double min_link, double max_link, double max_cost);
 

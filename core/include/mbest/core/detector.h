@@ -64,7 +64,8 @@ struct DetectorConfig {
   // Two Ys joined by a branch longer than epsilon_radii and up to wide_radii, each leaving
   // a strand ending there, are one crossing when those two strands continue each other at
   // a pairing cost (bending energy plus colour) of at most this (bending.h, pair_lone_ys):
-  // a thin DLO passing along a wide one at a shallow angle. 0 turns it off.
+  // a thin DLO passing along a wide one at a shallow angle; or when both strands run
+  // through the two Ys, each pair at most this. 0 turns it off.
   double lone_y_cost = 2.0;
 };
 
