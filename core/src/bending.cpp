@@ -319,13 +319,15 @@ std::vector<BranchTangent> exit_tangents(const SkeletonGraph& g, const std::vect
   return tangents;
 }
 
-std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache) {
+std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache,
+                                    double fold_energy) {
   const double colour_weight = cache.setup().colour_weight;
   std::vector<Passage> passages;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
     const CrossingRegion& region = regions[r];
     if (region.exits.size() < 2) continue;
     const std::vector<BranchTangent> tangents = cache.of(region.exits);
+    if (tangents.size() == 2 && pair_cost(tangents[0], tangents[1], 0) > fold_energy) continue;
     for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
       Passage p;
       p.region = r;

@@ -120,7 +120,8 @@ constexpr ConfigField kConfigFields[] = {
     {"wide_radii", &DetectorConfig::wide_radii, 0, 1000},
     {"colour_weight", &DetectorConfig::colour_weight, 0, 100},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
-    {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000}};
+    {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
+    {"fold_energy", &DetectorConfig::fold_energy, 0, 1000}};
 
 std::string out_of_range(const ConfigField& f, const std::string& value) {
   char range[64];
@@ -198,7 +199,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
                  config.lone_y_cost);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
                                   config.merge_gain);
-    return build_passages(regions, tangents);
+    return build_passages(regions, tangents, config.fold_energy);
   });
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);

@@ -268,6 +268,24 @@ TEST(Detector, RodsLeavingTheImageAndCrossingNearTheBorder) {
   expect_labels_cover_mask(r.value(), mask);
 }
 
+// Two rods whose ends touch at a sharp angle: the mask is a V, and the skeleton's spur at
+// its tip is pruned, leaving a junction with two exits. Joining them would fold one DLO
+// back on itself by 155 degrees.
+TEST(Detector, RodsTouchingEndToEndInAVAreTwoDlos) {
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({240, 240}, {{{80, 220}, {120, 40}}, {{160, 220}, {120, 40}}}, 13, &gt);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 2u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
+  expect_labels_cover_mask(r.value(), mask);
+  DetectorConfig never_fold_apart;
+  never_fold_apart.fold_energy = 1000;
+  auto folded = detect(mask, cv::Mat(), never_fold_apart);
+  ASSERT_TRUE(folded.ok());
+  EXPECT_EQ(folded.value().dlos.size(), 1u) << "the scene must make the fold: else this test proves nothing";
+}
+
 TEST(Detector, CrossingInTheCornerDoesNotCrash) {
   // Two rods crossing where both leave the image: an L-shaped blob, ambiguous by nature.
   const cv::Mat mask = scene({200, 200}, {{{-20, 8}, {220, 8}}, {{5, -20}, {5, 220}}}, 13);

@@ -3,6 +3,7 @@
 // paths bend least (the paper's Sec. III-F, extended from 4 exits to any number).
 #pragma once
 
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -154,10 +155,12 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
                                   TangentCache& tangents, double max_link, double min_gain);
 
 // The bending stage: for every crossing region, the tangents of its exits (from the graph
-// `tangents` was made for) and the pairing of least total cost; one Passage per pair (a
-// region with two exits, a bend the skeleton made into a junction, gets its single forced
-// passage).
+// `tangents` was made for) and the pairing of least total cost; one Passage per pair. A
+// region with two exits (a bend the skeleton made into a junction) gets its single forced
+// passage unless it folds back with a bending energy above `fold_energy`: then both
+// strands end there.
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
-                                    TangentCache& tangents);
+                                    TangentCache& tangents,
+                                    double fold_energy = std::numeric_limits<double>::infinity());
 
 }  // namespace mbest

@@ -67,6 +67,12 @@ struct DetectorConfig {
   // a thin DLO passing along a wide one at a shallow angle; or when both strands run
   // through the two Ys, each pair at most this. 0 turns it off.
   double lone_y_cost = 2.0;
+  // A junction left with two exits (a bend the skeleton made into a junction, a split end
+  // pruned) joins them into one strand unless that path folds back with more bending energy
+  // than this (about a 140 degree turn): an elastic rod does not fold at a point, but two
+  // DLOs touching end to end, or leaving the image side by side, meet that way
+  // (bending.h, build_passages). Large values turn it off.
+  double fold_energy = 4.0;
 };
 
 // Reads a DetectorConfig from a JSON object of the fields above (all optional). Unknown
