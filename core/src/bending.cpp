@@ -212,10 +212,14 @@ void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& 
   t->has_colour = true;
 }
 
+double colour_distance(const cv::Vec3f& a, const cv::Vec3f& b) {
+  const cv::Vec3f d = a - b;
+  return std::sqrt(0.25 * d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
 double colour_penalty(const BranchTangent& a, const BranchTangent& b) {
   if (!a.has_colour || !b.has_colour) return 0;
-  const cv::Vec3f d = a.colour - b.colour;
-  const double distance = std::sqrt(0.25 * d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  const double distance = colour_distance(a.colour, b.colour);
   const double excess = (distance - kColourTolerance) / (2 * kColourTolerance);
   return kColourPenaltyMax * std::clamp(excess, 0.0, 1.0);
 }

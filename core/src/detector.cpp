@@ -104,6 +104,38 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
   return tops;
 }
 
+// One colour zone per crossing region that two or more DLOs run through: discs over its
+// inner branches and junctions (radius: the mask's half width there) and over the paths
+// drawn through it, and each DLO's colour at the exits it takes.
+std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
+                                     const std::vector<Passage>& passages, const Traversal& tr) {
+  std::vector<ColourZone> zones(regions.size());
+  for (size_t i = 0; i < passages.size(); ++i) {
+    const Passage& p = passages[i];
+    const int d = tr.passage_dlo[i];
+    if (d < 0) continue;
+    ColourZone& z = zones[p.region];
+    for (const BranchTangent* t : {&p.from_tangent, &p.to_tangent})
+      if (t->has_colour) z.colours.push_back({d, t->colour});
+    for (size_t k = 0; k < p.path.size(); k += 2) z.discs.push_back({p.path[k], p.radius[k]});
+  }
+  for (size_t r = 0; r < regions.size(); ++r) {
+    ColourZone& z = zones[r];
+    if (z.colours.empty()) continue;
+    float widest = 0;
+    for (int b : regions[r].inner_branches) {
+      const Branch& br = g.branches[b];
+      for (size_t k = 0; k < br.pixels.size(); k += 2) {
+        z.discs.push_back({br.pixels[k], br.radius[k]});
+        widest = std::max(widest, br.radius[k]);
+      }
+    }
+    for (const auto& [c, radius] : z.discs) widest = std::max(widest, radius);
+    for (int n : regions[r].nodes) z.discs.push_back({cv::Point(g.nodes[n].centre), widest});
+  }
+  return zones;
+}
+
 // Every DetectorConfig field with its accepted range: one table for the JSON reader and for
 // detect()'s own check.
 struct ConfigField {
@@ -121,7 +153,8 @@ constexpr ConfigField kConfigFields[] = {
     {"colour_weight", &DetectorConfig::colour_weight, 0, 100},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
-    {"fold_energy", &DetectorConfig::fold_energy, 0, 1000}};
+    {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
+    {"colour_label_margin", &DetectorConfig::colour_label_margin, 0, 1000}};
 
 std::string out_of_range(const ConfigField& f, const std::string& value) {
   char range[64];
@@ -210,7 +243,13 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   });
   det.dlos = std::move(traversal.dlos);
   auto tops = record_crossings(det, passages, regions, traversal, ordered);
-  det.labels = stage("instance_mask", [&] { return instance_labels(mask, det.dlos, tops); });
+  det.labels = stage("instance_mask", [&] {
+    cv::Mat labels = instance_labels(mask, det.dlos, tops);
+    if (!bgr.empty() && config.colour_weight > 0 && config.colour_label_margin > 0)
+      refine_labels_by_colour(labels, mask, bgr, colour_zones(graph, regions, passages, traversal),
+                              config.colour_label_margin, 3 * config.colour_label_margin);
+    return labels;
+  });
   return det;
 }
 

@@ -1,9 +1,14 @@
 #include "mbest/core/instance_mask.h"
 
+#include "mbest/core/bending.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
+
+#include <opencv2/imgproc.hpp>
 
 namespace mbest {
 
@@ -142,6 +147,67 @@ cv::Mat instance_labels(const cv::Mat& mask, const std::vector<Dlo>& dlos,
       for (int x = 1; x <= cols; ++x) b[x] = b[x] == kUnreached ? kOutside : b[x];
     }
   return buffer(cv::Rect(1, 1, cols, rows));
+}
+
+void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat& bgr,
+                             const std::vector<ColourZone>& zones, double margin,
+                             double max_distance) {
+  if (bgr.empty() || margin <= 0) return;
+  const cv::Rect image(0, 0, mask.cols, mask.rows);
+  cv::Mat zone, samples, lab;
+  std::vector<int> dlos;
+  std::vector<cv::Point> at;
+  std::vector<float> nearest;
+  for (const ColourZone& z : zones) {
+    dlos.clear();
+    for (const auto& [d, colour] : z.colours) dlos.push_back(d);
+    std::sort(dlos.begin(), dlos.end());
+    dlos.erase(std::unique(dlos.begin(), dlos.end()), dlos.end());
+    if (dlos.size() < 2 || z.discs.empty()) continue;
+    cv::Rect box;
+    for (const auto& [c, r] : z.discs) {
+      const int k = static_cast<int>(std::ceil(r)) + 1;
+      box |= cv::Rect(c.x - k, c.y - k, 2 * k + 1, 2 * k + 1);
+    }
+    box &= image;
+    if (box.empty()) continue;
+    zone = cv::Mat::zeros(box.size(), CV_8UC1);
+    for (const auto& [c, r] : z.discs)
+      cv::circle(zone, c - box.tl(), static_cast<int>(std::ceil(r)) + 1, cv::Scalar(255), cv::FILLED);
+    // The zone's mask pixels, converted to Lab in one call.
+    at.clear();
+    for (int y = 0; y < box.height; ++y) {
+      const uint8_t* in_zone = zone.ptr<uint8_t>(y);
+      const uint8_t* in_mask = mask.ptr<uint8_t>(y + box.y) + box.x;
+      for (int x = 0; x < box.width; ++x)
+        if (in_zone[x] && in_mask[x]) at.emplace_back(x + box.x, y + box.y);
+    }
+    if (at.empty()) continue;
+    samples.create(1, static_cast<int>(at.size()), CV_8UC3);
+    for (size_t k = 0; k < at.size(); ++k) samples.at<cv::Vec3b>(0, static_cast<int>(k)) = bgr.at<cv::Vec3b>(at[k]);
+    cv::cvtColor(samples, lab, cv::COLOR_BGR2Lab);  // 8-bit: L * 255 / 100, a + 128, b + 128
+    nearest.resize(dlos.size());
+    for (size_t k = 0; k < at.size(); ++k) {
+      const cv::Vec3b v = lab.at<cv::Vec3b>(0, static_cast<int>(k));
+      const cv::Vec3f c(v[0] * 100.0f / 255, v[1] - 128.0f, v[2] - 128.0f);
+      std::fill(nearest.begin(), nearest.end(), std::numeric_limits<float>::infinity());
+      for (const auto& [owner, colour] : z.colours) {
+        const size_t i = static_cast<size_t>(std::lower_bound(dlos.begin(), dlos.end(), owner) - dlos.begin());
+        const cv::Vec3f d = c - colour;
+        nearest[i] = std::min(nearest[i], 0.25f * d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      }
+      // Squared distances until the two nearest DLOs are known.
+      size_t best = 0;
+      for (size_t i = 1; i < nearest.size(); ++i)
+        if (nearest[i] < nearest[best]) best = i;
+      float second = std::numeric_limits<float>::infinity();
+      for (size_t i = 0; i < nearest.size(); ++i)
+        if (i != best) second = std::min(second, nearest[i]);
+      const double d_best = std::sqrt(nearest[best]), d_second = std::sqrt(second);
+      if (d_best <= max_distance && d_second - d_best >= margin)
+        labels.at<uint16_t>(at[k]) = static_cast<uint16_t>(dlos[best] + 1);
+    }
+  }
 }
 
 }  // namespace mbest

@@ -147,6 +147,38 @@ TEST(Detector, ThreeColouredRodsCrossingNearOnePoint) {
   }
 }
 
+// Two rods of different colours lying side by side, touching, along a curved stretch: the
+// mask is one band there and the paths drawn through it are a guess, but every pixel shows
+// its rod's colour.
+TEST(Detector, SideBySideRodsOfTwoColoursAreLabelledByColour) {
+  const cv::Size size(420, 300);
+  std::vector<cv::Point> red, blue;
+  for (int x = 20; x <= 400; x += 4) {
+    // Apart at both ends, touching (centres 13 px apart, 13 px wide) from x = 120 to 300,
+    // along a gentle arc.
+    const double arc = 150 + 40 * std::sin((x - 20) * M_PI / 380);
+    const double apart = x < 120 ? (120 - x) * 0.5 : x > 300 ? (x - 300) * 0.5 : 0;
+    red.emplace_back(x, static_cast<int>(std::lround(arc - 6.5 - apart)));
+    blue.emplace_back(x, static_cast<int>(std::lround(arc + 6.5 + apart)));
+  }
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene(size, {red, blue}, 13, &gt);
+  cv::Mat bgr(size, CV_8UC3, cv::Scalar(0, 0, 0));
+  bgr.setTo(cv::Scalar(40, 40, 200), gt[0]);
+  bgr.setTo(cv::Scalar(200, 90, 30), gt[1]);
+  auto r = detect(mask, bgr);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.value().dlos.size(), 2u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.98);
+  expect_labels_cover_mask(r.value(), mask);
+  DetectorConfig no_colour_labels;
+  no_colour_labels.colour_label_margin = 0;
+  auto drawn = detect(mask, bgr, no_colour_labels);
+  ASSERT_TRUE(drawn.ok());
+  EXPECT_LT(test::strict_dice(gt, drawn.value().labels), 0.9)
+      << "drawn paths alone must get this scene wrong: else this test proves nothing";
+}
+
 TEST(Detector, NearParallelCrossingFromTwoYs) {
   std::vector<cv::Mat> gt;
   const cv::Mat mask = scene({600, 300},

@@ -57,5 +57,65 @@ TEST(InstanceMask, MaskPartsNoCenterlineReachesStayBackground) {
   EXPECT_EQ(labels.at<uint16_t>(40, 40), 0);
 }
 
+// A 60 x 20 band: red on top (rows 10-19), blue below (rows 20-29), every pixel labelled
+// DLO 0 (label 1) as if one drawn path had claimed it all; a white glare spot in the blue.
+struct Band {
+  cv::Mat mask = cv::Mat::zeros(40, 80, CV_8UC1);
+  cv::Mat bgr = cv::Mat::zeros(40, 80, CV_8UC3);
+  cv::Mat labels = cv::Mat::zeros(40, 80, CV_16UC1);
+  Band() {
+    mask(cv::Rect(10, 10, 60, 20)).setTo(255);
+    bgr(cv::Rect(10, 10, 60, 10)).setTo(cv::Scalar(40, 40, 200));
+    bgr(cv::Rect(10, 20, 60, 10)).setTo(cv::Scalar(200, 90, 30));
+    bgr(cv::Rect(30, 22, 4, 4)).setTo(cv::Scalar(255, 255, 255));
+    labels.setTo(1, mask);
+  }
+};
+
+cv::Vec3f lab_of(const cv::Scalar& bgr) {
+  cv::Mat pixel(1, 1, CV_8UC3, bgr), lab;
+  cv::cvtColor(pixel, lab, cv::COLOR_BGR2Lab);
+  const cv::Vec3b v = lab.at<cv::Vec3b>(0, 0);
+  return {v[0] * 100.0f / 255, v[1] - 128.0f, v[2] - 128.0f};
+}
+
+TEST(InstanceMask, ColourDecidesWhichDloAPixelInACrossingZoneShows) {
+  Band b;
+  ColourZone z;
+  for (int x = 10; x < 50; x += 2) z.discs.push_back({cv::Point(x, 20), 11.0f});  // x < 62
+  z.colours = {{0, lab_of({40, 40, 200})}, {1, lab_of({200, 90, 30})}};
+  refine_labels_by_colour(b.labels, b.mask, b.bgr, {z}, 10, 30);
+  EXPECT_EQ(b.labels.at<uint16_t>(15, 20), 1) << "red stays with DLO 0";
+  EXPECT_EQ(b.labels.at<uint16_t>(25, 20), 2) << "blue goes to DLO 1";
+  EXPECT_EQ(b.labels.at<uint16_t>(24, 31), 1) << "glare matches neither: unchanged";
+  EXPECT_EQ(b.labels.at<uint16_t>(25, 68), 1) << "outside the zone: unchanged";
+  EXPECT_EQ(b.labels.at<uint16_t>(5, 20), 0) << "background stays background";
+}
+
+TEST(InstanceMask, ColourLeavesLabelsAloneWhenItCannotTellTheDlosApart) {
+  ColourZone z;
+  for (int x = 10; x < 70; x += 2) z.discs.push_back({cv::Point(x, 20), 11.0f});
+  const cv::Vec3f red = lab_of({40, 40, 200}), blue = lab_of({200, 90, 30});
+  {  // a DLO paired wrongly through the crossing carries both colours
+    Band b;
+    const cv::Mat before = b.labels.clone();
+    ColourZone both = z;
+    both.colours = {{0, red}, {0, blue}, {1, blue}, {1, red}};
+    refine_labels_by_colour(b.labels, b.mask, b.bgr, {both}, 10, 30);
+    EXPECT_EQ(cv::countNonZero(b.labels != before), 0);
+  }
+  {  // one DLO only, or the refinement off
+    Band b;
+    const cv::Mat before = b.labels.clone();
+    ColourZone one = z;
+    one.colours = {{0, red}, {0, blue}};
+    refine_labels_by_colour(b.labels, b.mask, b.bgr, {one}, 10, 30);
+    z.colours = {{0, red}, {1, blue}};
+    refine_labels_by_colour(b.labels, b.mask, b.bgr, {z}, 0, 30);
+    refine_labels_by_colour(b.labels, b.mask, cv::Mat(), {z}, 10, 30);
+    EXPECT_EQ(cv::countNonZero(b.labels != before), 0);
+  }
+}
+
 }  // namespace
 }  // namespace mbest

@@ -70,6 +70,8 @@ inline constexpr double kColourStretchFits = 4.0;
 inline constexpr double kColourTolerance = 10.0;
 inline constexpr double kColourPenaltyMax = 4.0;
 double colour_penalty(const BranchTangent& a, const BranchTangent& b);
+// The colour difference colour_penalty measures: Euclidean in CIE Lab, lightness counted half.
+double colour_distance(const cv::Vec3f& a, const cv::Vec3f& b);
 
 // The pairing of exits (indices into `exits`) with the least total cost: bending energy
 // plus `colour_weight` times the colour penalty. With an odd number of exits one is left

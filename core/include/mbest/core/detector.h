@@ -73,6 +73,11 @@ struct DetectorConfig {
   // DLOs touching end to end, or leaving the image side by side, meet that way
   // (bending.h, build_passages). Large values turn it off.
   double fold_energy = 4.0;
+  // With the colour image and colour_weight > 0: inside a crossing region, a mask pixel goes
+  // to the DLO whose colour it shows when that DLO's colour is nearer by at least this (Lab
+  // units, lightness counted half) than any other's there, and within three times this
+  // (instance_mask.h, refine_labels_by_colour). 0 turns it off.
+  double colour_label_margin = 10.0;
 };
 
 // Reads a DetectorConfig from a JSON object of the fields above (all optional). Unknown

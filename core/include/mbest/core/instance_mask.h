@@ -4,6 +4,7 @@
 // band of each top strand through a crossing has been given to that strand.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -25,5 +26,24 @@ struct TopStrand {
 // one-pixel border (so not continuous; rows are reached with ptr()), which saves a copy.
 cv::Mat instance_labels(const cv::Mat& mask, const std::vector<Dlo>& dlos,
                         const std::vector<TopStrand>& tops);
+
+// Where strands cross or lie side by side, the paths drawn through a crossing region are a
+// guess, but which DLO a pixel shows is plain in its colour. A colour zone covers one
+// crossing region (the union of `discs`, centre and radius) and lists the colour of each
+// DLO through it (CIE Lab as in BranchTangent::colour; a DLO may have several, one per exit).
+struct ColourZone {
+  std::vector<std::pair<cv::Point, float>> discs;
+  std::vector<std::pair<int, cv::Vec3f>> colours;  // (DLO index, colour)
+};
+
+// Relabels each mask pixel inside a zone to the DLO whose colour is nearest the pixel's
+// (colour_distance) when that is at most `max_distance` and nearer by at least `margin`
+// than every other DLO of the zone. Other pixels keep their label: glare, edges blended
+// with the background, DLOs of one colour, and a DLO paired wrongly through the crossing
+// (it carries both strands' colours, so neither wins). `labels` as instance_labels returns
+// it; `bgr` CV_8UC3 of the mask's size (nothing happens when it is empty).
+void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat& bgr,
+                             const std::vector<ColourZone>& zones, double margin,
+                             double max_distance);
 
 }  // namespace mbest
