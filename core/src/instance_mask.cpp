@@ -158,6 +158,7 @@ void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat
   std::vector<int> dlos;
   std::vector<cv::Point> at;
   std::vector<float> nearest;
+  std::vector<int> owner;  // per zone colour, its DLO's index in `dlos`
   for (const ColourZone& z : zones) {
     dlos.clear();
     for (const auto& [d, colour] : z.colours) dlos.push_back(d);
@@ -184,17 +185,21 @@ void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat
     }
     if (at.empty()) continue;
     samples.create(1, static_cast<int>(at.size()), CV_8UC3);
-    for (size_t k = 0; k < at.size(); ++k) samples.at<cv::Vec3b>(0, static_cast<int>(k)) = bgr.at<cv::Vec3b>(at[k]);
+    cv::Vec3b* sample = samples.ptr<cv::Vec3b>(0);
+    for (size_t k = 0; k < at.size(); ++k) sample[k] = bgr.at<cv::Vec3b>(at[k]);
     cv::cvtColor(samples, lab, cv::COLOR_BGR2Lab);  // 8-bit: L * 255 / 100, a + 128, b + 128
     nearest.resize(dlos.size());
+    owner.clear();
+    for (const auto& [d, colour] : z.colours)
+      owner.push_back(static_cast<int>(std::lower_bound(dlos.begin(), dlos.end(), d) - dlos.begin()));
+    const cv::Vec3b* pixel = lab.ptr<cv::Vec3b>(0);
     for (size_t k = 0; k < at.size(); ++k) {
-      const cv::Vec3b v = lab.at<cv::Vec3b>(0, static_cast<int>(k));
-      const cv::Vec3f c(v[0] * 100.0f / 255, v[1] - 128.0f, v[2] - 128.0f);
+      const float l = pixel[k][0] * (100.0f / 255), a = pixel[k][1] - 128.0f, b = pixel[k][2] - 128.0f;
       std::fill(nearest.begin(), nearest.end(), std::numeric_limits<float>::infinity());
-      for (const auto& [owner, colour] : z.colours) {
-        const size_t i = static_cast<size_t>(std::lower_bound(dlos.begin(), dlos.end(), owner) - dlos.begin());
-        const cv::Vec3f d = c - colour;
-        nearest[i] = std::min(nearest[i], 0.25f * d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      for (size_t j = 0; j < owner.size(); ++j) {
+        const cv::Vec3f& colour = z.colours[j].second;
+        const float dl = l - colour[0], da = a - colour[1], db = b - colour[2];
+        nearest[owner[j]] = std::min(nearest[owner[j]], 0.25f * dl * dl + da * da + db * db);
       }
       // Squared distances until the two nearest DLOs are known.
       size_t best = 0;
