@@ -1,6 +1,7 @@
 #include "mbest/core/bending.h"
 
 #include <cmath>
+#include <initializer_list>
 
 #include <gtest/gtest.h>
 
@@ -143,6 +144,51 @@ TEST(Bending, ColourDecidesBetweenPairingsGeometryCannotTellApart) {
   EXPECT_EQ(min_energy_pairing(grey, 2.0), plain);
 }
 
+// A skeleton graph drawn by hand: nodes at points, straight branches between them (radius
+// 3), each branch also drawn 5 px wide in its colour into `bgr` when that is set.
+struct HandGraph {
+  SkeletonGraph graph;
+  cv::Mat bgr;
+
+  int node(cv::Point p, Node::Kind kind) {
+    Node n;
+    n.kind = kind;
+    n.pixels = {p};
+    n.centre = cv::Point2f(p);
+    graph.nodes.push_back(n);
+    return static_cast<int>(graph.nodes.size()) - 1;
+  }
+  int branch(int from, int to, const cv::Scalar& colour = cv::Scalar()) {
+    Branch br;
+    const cv::Point p = graph.nodes[from].pixels[0], q = graph.nodes[to].pixels[0];
+    cv::LineIterator it(p, q, 8);
+    for (int k = 0; k < it.count; ++k, ++it)
+      if (k > 0 && k < it.count - 1) br.pixels.push_back(it.pos());
+    br.radius.assign(br.pixels.size(), 3.0f);
+    br.node[0] = from;
+    br.node[1] = to;
+    br.length = chain_length(br.pixels) + 2;
+    graph.branches.push_back(br);
+    const int i = static_cast<int>(graph.branches.size()) - 1;
+    graph.nodes[from].branch_ends.push_back({i, 0});
+    graph.nodes[to].branch_ends.push_back({i, 1});
+    if (!bgr.empty()) cv::line(bgr, p, q, colour, 5);
+    return i;
+  }
+  // Each of `junctions` as a crossing region of its own.
+  std::vector<CrossingRegion> regions_of(std::initializer_list<int> junctions) const {
+    std::vector<CrossingRegion> regions;
+    for (int j : junctions) {
+      CrossingRegion r;
+      r.nodes = {j};
+      r.exits = graph.nodes[j].branch_ends;
+      r.centre = graph.nodes[j].centre;
+      regions.push_back(r);
+    }
+    return regions;
+  }
+};
+
 // A hand-made graph: junctions J1 (100, 100) and J2 (140, 100) joined by a red link; a
 // red rod runs left-right through both, a blue one from the upper left of J1 to the lower
 // right of J2 and a green one from the lower left of J1 to the upper right of J2, all three
@@ -156,51 +202,22 @@ struct Bundle {
 // Three strands (red, blue, green) crossing near two junctions 40 px apart; with `yellow_end`
 // a yellow DLO also ends at the left one.
 Bundle bundle(bool yellow_end = false) {
-  Bundle b;
-  SkeletonGraph& g = b.graph;
-  b.bgr = cv::Mat(200, 240, CV_8UC3, cv::Scalar(0, 0, 0));
-  const auto node = [&](cv::Point p, Node::Kind kind) {
-    Node n;
-    n.kind = kind;
-    n.pixels = {p};
-    n.centre = cv::Point2f(p);
-    g.nodes.push_back(n);
-    return static_cast<int>(g.nodes.size()) - 1;
-  };
-  const auto branch = [&](int from, int to, const cv::Scalar& colour) {
-    Branch br;
-    const cv::Point p = g.nodes[from].pixels[0], q = g.nodes[to].pixels[0];
-    cv::LineIterator it(p, q, 8);
-    for (int k = 0; k < it.count; ++k, ++it)
-      if (k > 0 && k < it.count - 1) br.pixels.push_back(it.pos());
-    br.radius.assign(br.pixels.size(), 3.0f);
-    br.node[0] = from;
-    br.node[1] = to;
-    br.length = chain_length(br.pixels) + 2;
-    g.branches.push_back(br);
-    const int i = static_cast<int>(g.branches.size()) - 1;
-    g.nodes[from].branch_ends.push_back({i, 0});
-    g.nodes[to].branch_ends.push_back({i, 1});
-    cv::line(b.bgr, p, q, colour, 5);
-    return i;
-  };
+  HandGraph h;
+  h.bgr = cv::Mat(200, 240, CV_8UC3, cv::Scalar(0, 0, 0));
   const cv::Scalar red(40, 40, 200), blue(200, 90, 30), green(40, 200, 60);
-  const int j1 = node({100, 100}, Node::Kind::junction), j2 = node({140, 100}, Node::Kind::junction);
-  branch(node({30, 100}, Node::Kind::end), j1, red);
-  branch(node({50, 50}, Node::Kind::end), j1, blue);
-  branch(node({50, 150}, Node::Kind::end), j1, green);
-  branch(j2, node({210, 100}, Node::Kind::end), red);
-  branch(j2, node({190, 150}, Node::Kind::end), blue);
-  branch(j2, node({190, 50}, Node::Kind::end), green);
-  if (yellow_end) branch(node({100, 20}, Node::Kind::end), j1, cv::Scalar(30, 210, 230));
-  branch(j1, j2, red);  // drawn last: the link shows the top strand's colour
-  for (int j : {j1, j2}) {
-    CrossingRegion r;
-    r.nodes = {j};
-    r.exits = g.nodes[j].branch_ends;
-    r.centre = g.nodes[j].centre;
-    b.regions.push_back(r);
-  }
+  const int j1 = h.node({100, 100}, Node::Kind::junction), j2 = h.node({140, 100}, Node::Kind::junction);
+  h.branch(h.node({30, 100}, Node::Kind::end), j1, red);
+  h.branch(h.node({50, 50}, Node::Kind::end), j1, blue);
+  h.branch(h.node({50, 150}, Node::Kind::end), j1, green);
+  h.branch(j2, h.node({210, 100}, Node::Kind::end), red);
+  h.branch(j2, h.node({190, 150}, Node::Kind::end), blue);
+  h.branch(j2, h.node({190, 50}, Node::Kind::end), green);
+  if (yellow_end) h.branch(h.node({100, 20}, Node::Kind::end), j1, cv::Scalar(30, 210, 230));
+  h.branch(j1, j2, red);  // drawn last: the link shows the top strand's colour
+  Bundle b;
+  b.regions = h.regions_of({j1, j2});
+  b.graph = std::move(h.graph);
+  b.bgr = h.bgr;
   return b;
 }
 
@@ -258,44 +275,15 @@ TEST(Bending, RegionWhereAStrandEndsMergesToo) {
 // leaves the other ending; here those are B at the left Y and A at the right one, which do
 // not continue each other. Both strands still run through, so the Ys are one crossing.
 TEST(Bending, TwoYsWhoseStrandsBothRunThroughAreOneCrossing) {
-  SkeletonGraph g;
-  const auto node = [&](cv::Point p, Node::Kind kind) {
-    Node n;
-    n.kind = kind;
-    n.pixels = {p};
-    n.centre = cv::Point2f(p);
-    g.nodes.push_back(n);
-    return static_cast<int>(g.nodes.size()) - 1;
-  };
-  const auto branch = [&](int from, int to) {
-    Branch br;
-    cv::LineIterator it(g.nodes[from].pixels[0], g.nodes[to].pixels[0], 8);
-    for (int k = 0; k < it.count; ++k, ++it)
-      if (k > 0 && k < it.count - 1) br.pixels.push_back(it.pos());
-    br.radius.assign(br.pixels.size(), 3.0f);
-    br.node[0] = from;
-    br.node[1] = to;
-    br.length = chain_length(br.pixels) + 2;
-    g.branches.push_back(br);
-    const int i = static_cast<int>(g.branches.size()) - 1;
-    g.nodes[from].branch_ends.push_back({i, 0});
-    g.nodes[to].branch_ends.push_back({i, 1});
-    return i;
-  };
-  const int y1 = node({100, 100}, Node::Kind::junction), y2 = node({160, 100}, Node::Kind::junction);
-  const int a_in = branch(node({40, 85}, Node::Kind::end), y1);    // 14 deg off the link
-  const int b_in = branch(node({40, 120}, Node::Kind::end), y1);   // 18 deg
-  const int b_out = branch(y2, node({220, 85}, Node::Kind::end));  // 14 deg
-  const int a_out = branch(y2, node({220, 120}, Node::Kind::end)); // 18 deg
-  branch(y1, y2);
-  std::vector<CrossingRegion> regions;
-  for (int j : {y1, y2}) {
-    CrossingRegion r;
-    r.nodes = {j};
-    r.exits = g.nodes[j].branch_ends;
-    r.centre = g.nodes[j].centre;
-    regions.push_back(r);
-  }
+  HandGraph h;
+  const int y1 = h.node({100, 100}, Node::Kind::junction), y2 = h.node({160, 100}, Node::Kind::junction);
+  const int a_in = h.branch(h.node({40, 85}, Node::Kind::end), y1);    // 14 deg off the link
+  const int b_in = h.branch(h.node({40, 120}, Node::Kind::end), y1);   // 18 deg
+  const int b_out = h.branch(y2, h.node({220, 85}, Node::Kind::end));  // 14 deg
+  const int a_out = h.branch(y2, h.node({220, 120}, Node::Kind::end)); // 18 deg
+  h.branch(y1, y2);
+  SkeletonGraph& g = h.graph;
+  std::vector<CrossingRegion> regions = h.regions_of({y1, y2});
   const PairingSetup setup{2, 8, cv::Mat(), 0.0};
   TangentCache cache(g, setup);
   // Alone, each Y leaves the strand farther from the link's direction ending.
