@@ -246,8 +246,9 @@ void add_detect_command(CLI::App& app, int* exit_code) {
                   "a/images/x.jpg is a/NAME/x.png (e.g. `semantic` in `mbest synth` output)")
       ->excludes("--mask");
   cmd->add_option("--config", opts->config,
-                  "JSON file of detector constants (in units of the widest DLO's radius), e.g. "
-                  "{\"fit_radii\": 4}; see DetectorConfig in core/include/mbest/core/detector.h");
+                  "JSON file of detector constants, e.g. {\"fit_radii\": 4} (lengths are in units of the "
+                  "widest DLO's radius); every field is described in DetectorConfig, "
+                  "core/include/mbest/core/detector.h");
   cmd->add_option("--out", opts->out, "Output folder (created if missing)")->capture_default_str();
   cmd->add_flag("--overlay", opts->overlay, "Also write <stem>.overlay.png for a person to check");
   cmd->add_option("--timings", opts->timings,
