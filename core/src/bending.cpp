@@ -359,7 +359,8 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
 namespace mbest {
 
 int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>& regions,
-                                  TangentCache& cache, double max_link, double min_gain) {
+                                  TangentCache& cache, double max_link, double min_gain,
+                                  double wide_link, double wide_reach) {
   const PairingSetup& setup = cache.setup();
   const auto best_cost = [&](const std::vector<BranchEnd>& exits) {
     const std::vector<BranchTangent> t = cache.of(exits);
@@ -374,7 +375,9 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
     std::vector<BranchEnd> best_exits;
     for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
       const Branch& b = g.branches[i];
-      if (!b.alive || b.length > max_link) continue;
+      if (!b.alive) continue;
+      const bool wide = b.length > max_link;
+      if (wide && !(b.length <= wide_link && wider_than_neighbours(g, i, wide_reach))) continue;
       const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
       if (ra < 0 || rb < 0 || ra == rb) continue;
       const CrossingRegion &a = regions[ra], &c = regions[rb];
@@ -389,7 +392,9 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
         if (cost[r] < 0) cost[r] = best_cost(regions[r].exits);
       // Costs are never negative: regions that pair well alone cannot gain enough.
       if (cost[ra] + cost[rb] <= best_gain) continue;
-      const double gain = cost[ra] + cost[rb] - best_cost(exits);
+      // A wide link must gain three times as much: past max_link the strands at its two
+      // ends are far apart, and a pairing cost is a weaker cue there.
+      const double gain = cost[ra] + cost[rb] - best_cost(exits) - (wide ? 2 * min_gain : 0);
       if (gain > best_gain) {
         best_gain = gain;
         best_link = i;

@@ -24,8 +24,8 @@ bool joins_junctions(const SkeletonGraph& g, const Branch& b) {
 }
 
 
-// Is branch `i`, joining two junctions, wider than the other branches at those junctions
-// (their first `reach` pixels)?
+}  // namespace
+
 bool wider_than_neighbours(const SkeletonGraph& g, int i, double reach) {
   const Branch& mid = g.branches[i];
   if (mid.radius.empty()) return false;
@@ -44,6 +44,8 @@ bool wider_than_neighbours(const SkeletonGraph& g, int i, double reach) {
   const float typical = middle_value(around);
   return typical > 0 && mean >= 1.25 * typical;
 }
+
+namespace {
 
 // Ys still unpaired after Y-pair matching whose joining path runs through other crossings:
 // a loop or a third strand lying across a shallow crossing splits one topological crossing

@@ -243,6 +243,26 @@ TEST(Bending, RegionsThatPairBetterTogetherAreMerged) {
   }
 }
 
+// Past max_link, the link must be wider than the branches around it (two strands lying
+// side by side along it) for the merge.
+TEST(Bending, RegionsJoinedByALongWideLinkAreMerged) {
+  // The bundle's link is about 40 px long: beyond max_link = 30 here.
+  const auto merges = [](float link_radius, double wide_link) {
+    Bundle b = bundle();
+    for (Branch& br : b.graph.branches)
+      if (b.graph.nodes[br.node[0]].kind == Node::Kind::junction &&
+          b.graph.nodes[br.node[1]].kind == Node::Kind::junction)
+        br.radius.assign(br.radius.size(), link_radius);
+    const PairingSetup setup{2, 8, b.bgr, 2.0};
+    TangentCache tangents(b.graph, setup);
+    return merge_regions_by_pairing_cost(b.graph, b.regions, tangents, 30, 1.0, wide_link, 12);
+  };
+  EXPECT_EQ(merges(6.0f, 60), 1) << "twice as wide as its neighbours: merged";
+  EXPECT_EQ(merges(3.0f, 60), 0) << "no wider than its neighbours: not merged";
+  EXPECT_EQ(merges(6.0f, 35), 0) << "wide, but longer than wide_link: not merged";
+  EXPECT_EQ(merges(6.0f, 0), 0) << "wide links off by default";
+}
+
 // Where a DLO also ends at one of the two regions, that region has an odd exit count; the
 // merge leaves one exit unpaired either way, so the comparison still holds.
 TEST(Bending, RegionWhereAStrandEndsMergesToo) {

@@ -33,6 +33,11 @@ struct CrossingRegion {
 //    across a shallow crossing makes a Y, an X and a Y) are one crossing with those between
 //    them, when the path is no longer than `wide_length`.
 // Branches made inner are marked dead in `graph`.
+// Is branch `i`, joining two junctions, wider than the other branches at those junctions
+// (their first `reach` pixels): its mean radius at least 1.25 times their median? Where
+// two strands overlap or lie side by side, the mask is wider than either.
+bool wider_than_neighbours(const SkeletonGraph& graph, int i, double reach);
+
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& graph, double merge_length,
                                             double epsilon, double wide_length);
 
