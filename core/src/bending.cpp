@@ -52,6 +52,16 @@ std::vector<int> region_of_nodes(const SkeletonGraph& g, const std::vector<Cross
   return region_of;
 }
 
+// The exits of regions `a` and `c` joined through their `link` branch: a's, then c's,
+// without the link.
+std::vector<BranchEnd> joined_exits(const CrossingRegion& a, const CrossingRegion& c, int link) {
+  std::vector<BranchEnd> exits;
+  for (const auto* list : {&a.exits, &c.exits})
+    for (const BranchEnd& e : *list)
+      if (e.branch != link) exits.push_back(e);
+  return exits;
+}
+
 // Makes region `c` part of region `a` through their `link` branch (marked dead, now inner):
 // `a` takes c's nodes and inner branches, `exits` and the mean centre of all its nodes.
 void absorb_region(SkeletonGraph& g, CrossingRegion& a, const CrossingRegion& c, int link,
@@ -383,10 +393,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       const CrossingRegion &a = regions[ra], &c = regions[rb];
       // Two strands end there, one each: joining would pair them (pair_lone_ys).
       if (a.exits.size() % 2 && c.exits.size() % 2) continue;
-      std::vector<BranchEnd> exits;
-      for (const auto* list : {&a.exits, &c.exits})
-        for (const BranchEnd& e : *list)
-          if (e.branch != i) exits.push_back(e);
+      std::vector<BranchEnd> exits = joined_exits(a, c, i);
       if (exits.size() < 4 || exits.size() > 10) continue;
       for (int r : {ra, rb})
         if (cost[r] < 0) cost[r] = best_cost(regions[r].exits);
@@ -437,10 +444,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     if (ra < 0 || rb < 0 || ra == rb) continue;
     const CrossingRegion &a = regions[ra], &c = regions[rb];
     if (a.exits.size() % 2 == 0 || c.exits.size() % 2 == 0) continue;
-    std::vector<BranchEnd> exits;
-    for (const auto* list : {&a.exits, &c.exits})
-      for (const BranchEnd& e : *list)
-        if (e.branch != i) exits.push_back(e);
+    std::vector<BranchEnd> exits = joined_exits(a, c, i);
     if (exits.size() > 10) continue;
     const std::vector<BranchTangent> t = cache.of(exits);
     const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, setup.colour_weight);

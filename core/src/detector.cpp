@@ -104,9 +104,10 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
   return tops;
 }
 
-// One colour zone per crossing region that two or more DLOs run through: discs over its
-// inner branches and junctions (radius: the mask's half width there) and over the paths
-// drawn through it, and each DLO's colour at the exits it takes.
+// One colour zone per crossing region (refine_labels_by_colour skips those fewer than two
+// DLOs run through): discs over its inner branches and junctions (radius: the mask's half
+// width there) and over the paths drawn through it, and each DLO's colour at the exits it
+// takes.
 std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
                                      const std::vector<Passage>& passages, const Traversal& tr) {
   std::vector<ColourZone> zones(regions.size());
