@@ -223,8 +223,7 @@ void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& 
 }
 
 double colour_distance(const cv::Vec3f& a, const cv::Vec3f& b) {
-  const cv::Vec3f d = a - b;
-  return std::sqrt(0.25 * d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  return std::sqrt(static_cast<double>(colour_distance_squared(a, b)));
 }
 
 double colour_penalty(const BranchTangent& a, const BranchTangent& b) {

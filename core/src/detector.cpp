@@ -123,14 +123,11 @@ std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<C
   for (size_t r = 0; r < regions.size(); ++r) {
     ColourZone& z = zones[r];
     if (z.colours.empty()) continue;
-    float widest = 0;
     for (int b : regions[r].inner_branches) {
       const Branch& br = g.branches[b];
-      for (size_t k = 0; k < br.pixels.size(); k += 2) {
-        z.discs.push_back({br.pixels[k], br.radius[k]});
-        widest = std::max(widest, br.radius[k]);
-      }
+      for (size_t k = 0; k < br.pixels.size(); k += 2) z.discs.push_back({br.pixels[k], br.radius[k]});
     }
+    float widest = 0;
     for (const auto& [c, radius] : z.discs) widest = std::max(widest, radius);
     for (int n : regions[r].nodes) z.discs.push_back({cv::Point(g.nodes[n].centre), widest});
   }

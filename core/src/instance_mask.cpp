@@ -194,13 +194,10 @@ void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat
       owner.push_back(static_cast<int>(std::lower_bound(dlos.begin(), dlos.end(), d) - dlos.begin()));
     const cv::Vec3b* pixel = lab.ptr<cv::Vec3b>(0);
     for (size_t k = 0; k < at.size(); ++k) {
-      const float l = pixel[k][0] * (100.0f / 255), a = pixel[k][1] - 128.0f, b = pixel[k][2] - 128.0f;
+      const cv::Vec3f c(pixel[k][0] * (100.0f / 255), pixel[k][1] - 128.0f, pixel[k][2] - 128.0f);
       std::fill(nearest.begin(), nearest.end(), std::numeric_limits<float>::infinity());
-      for (size_t j = 0; j < owner.size(); ++j) {
-        const cv::Vec3f& colour = z.colours[j].second;
-        const float dl = l - colour[0], da = a - colour[1], db = b - colour[2];
-        nearest[owner[j]] = std::min(nearest[owner[j]], 0.25f * dl * dl + da * da + db * db);
-      }
+      for (size_t j = 0; j < owner.size(); ++j)
+        nearest[owner[j]] = std::min(nearest[owner[j]], colour_distance_squared(c, z.colours[j].second));
       // Squared distances until the two nearest DLOs are known.
       size_t best = 0;
       for (size_t i = 1; i < nearest.size(); ++i)

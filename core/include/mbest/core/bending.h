@@ -70,7 +70,12 @@ inline constexpr double kColourStretchFits = 4.0;
 inline constexpr double kColourTolerance = 10.0;
 inline constexpr double kColourPenaltyMax = 4.0;
 double colour_penalty(const BranchTangent& a, const BranchTangent& b);
-// The colour difference colour_penalty measures: Euclidean in CIE Lab, lightness counted half.
+// The colour difference colour_penalty measures: Euclidean in CIE Lab, lightness counted
+// half; and its square, for comparisons in a hot loop.
+inline float colour_distance_squared(const cv::Vec3f& a, const cv::Vec3f& b) {
+  const cv::Vec3f d = a - b;
+  return 0.25f * d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+}
 double colour_distance(const cv::Vec3f& a, const cv::Vec3f& b);
 
 // The pairing of exits (indices into `exits`) with the least total cost: bending energy
