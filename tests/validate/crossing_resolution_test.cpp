@@ -182,10 +182,12 @@ TEST(CrossingResolution, ShortRodWithoutAClearSampleIsNotAssessed) {
 }
 
 // One rod drawn as A -> B -> C -> D whose first and last legs cross at (90, 70), 71 degrees.
+// A rod crossing itself at (90, 70) once, its loop reaching x = 160: inside the default image,
+// outside (from x = 144) an image 140 px wide.
 struct Loop {
   SceneAnnotation scene;
-  cv::Mat gt = cv::Mat::zeros(140, 180, CV_16UC1);
-  Loop() {
+  cv::Mat gt;
+  explicit Loop(int image_width = 180) : gt(cv::Mat::zeros(140, image_width, CV_16UC1)) {
     RodAnnotation loop = rod(1, {{20, 120}, {160, 20}, {160, 120}, {20, 20}}, 7);
     const cv::Point2d centre(90, 70);
     int first = 0, last = 0;  // nearest samples to the crossing on the first and last legs
@@ -233,6 +235,42 @@ TEST(CrossingResolution, SelfCrossingCutAtTheCrossingIsNotPaired) {
   ASSERT_EQ(r.size(), 1u);
   EXPECT_TRUE(r[0].pairing_assessed) << r[0].note;
   EXPECT_FALSE(r[0].pairing_correct);
+}
+
+// Labels 1 up to the middle of the loop, 2 after it: both strands go straight through the
+// crossing, as two instances.
+CrossingResolution split_in_the_loop(const Loop& s) {
+  const RodAnnotation& loop = s.scene.rods[0];
+  const int mid = (s.scene.crossings[0].arc_index_a + s.scene.crossings[0].arc_index_b) / 2;
+  cv::Mat pred = cv::Mat::zeros(s.gt.size(), CV_16UC1);
+  draw(&pred, loop, 1, 0, mid);
+  draw(&pred, loop, 2, mid);
+  pred.setTo(0, s.gt == 0);
+  Result<DiceScore> d = matched_dice(s.gt, pred);
+  const std::vector<CrossingResolution> r = crossing_resolution(s.scene, s.gt, pred, d.value());
+  EXPECT_EQ(r.size(), 1u);
+  return r.empty() ? CrossingResolution{} : r[0];
+}
+
+TEST(CrossingResolution, SelfCrossingSplitInItsVisibleLoopIsNotPaired) {
+  const CrossingResolution r = split_in_the_loop(Loop());
+  EXPECT_TRUE(r.pairing_assessed) << r.note;
+  EXPECT_NE(r.a_before, r.b_before);
+  EXPECT_FALSE(r.pairing_correct);
+}
+
+TEST(CrossingResolution, SelfCrossingWhoseLoopLeavesTheImageMayBeTwoInstances) {
+  const Loop s(140);
+  EXPECT_GT(cv::countNonZero(s.gt.col(139)), 0);  // the loop leaves through the right edge
+  const CrossingResolution r = split_in_the_loop(s);
+  EXPECT_TRUE(r.pairing_assessed) << r.note;
+  EXPECT_NE(r.a_before, r.b_before);
+  EXPECT_TRUE(r.pairing_correct);
+  // Kept as one instance, it is paired too.
+  Result<DiceScore> d = matched_dice(s.gt, s.gt);
+  const std::vector<CrossingResolution> one = crossing_resolution(s.scene, s.gt, s.gt, d.value());
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_TRUE(one[0].pairing_correct);
 }
 
 }  // namespace

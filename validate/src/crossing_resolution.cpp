@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <utility>
 
 #include <opencv2/imgproc.hpp>
 
@@ -67,6 +68,27 @@ int majority_label(const cv::Mat& pred16, const cv::Mat& gt16, cv::Point2d centr
 int index_distance(int i, int j, int size, bool closed) {
   const int d = std::abs(i - j);
   return closed ? std::min(d, size - d) : d;
+}
+
+// Whether the two passes of a self-crossing (samples i and j) are joined by a stretch of the
+// rod that stays in the image (either way round a closed rod). A stretch leaves the image where
+// its centerline is more than half the rod's width outside, so that none of its body shows.
+// Where the loop between the passes leaves the image, the picture shows two pieces, and no
+// detector can tell that they are one rod.
+bool passes_joined_in_image(const RodAnnotation& rod, int i, int j, cv::Size image) {
+  const double m = rod.width_px / 2;
+  const auto shows = [&](const cv::Point2d& p) {
+    return p.x >= -m && p.y >= -m && p.x <= image.width - 1 + m && p.y <= image.height - 1 + m;
+  };
+  const auto stretch_shows = [&](int from, int to) {  // samples from..to, wrapping round
+    const int size = static_cast<int>(rod.centerline.size());
+    for (int k = from;; k = (k + 1) % size) {
+      if (!shows(rod.centerline[k])) return false;
+      if (k == to) return true;
+    }
+  };
+  if (i > j) std::swap(i, j);
+  return stretch_shows(i, j) || (rod.closed && stretch_shows(j, i));
 }
 
 struct Strand {
@@ -175,9 +197,12 @@ std::vector<CrossingResolution> crossing_resolution(const synth::SceneAnnotation
       r.pairing_assessed = true;
       const bool a_kept = r.a_before != 0 && r.a_before == r.a_after;
       const bool b_kept = r.b_before != 0 && r.b_before == r.b_after;
-      r.pairing_correct = a_kept && b_kept &&
-                          (c.rod_a == c.rod_b ? r.a_before == r.b_before
-                                              : r.a_before != r.b_before);
+      const bool labels_as_rods =
+          c.rod_a != c.rod_b
+              ? r.a_before != r.b_before
+              : r.a_before == r.b_before ||
+                    !passes_joined_in_image(*a.rod, a.arc_index, b.arc_index, gt16.size());
+      r.pairing_correct = a_kept && b_kept && labels_as_rods;
     } else {
       r.note = "a strand has no visible sample clear of the crossing";
     }

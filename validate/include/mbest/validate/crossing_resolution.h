@@ -34,7 +34,9 @@ struct CrossingResolution {
   // or not sampled) and at the crossing itself.
   int a_before = 0, a_after = 0, b_before = 0, b_after = 0, at_crossing = 0;
   // Pairing: each strand keeps one non-zero label across the crossing, and two different rods
-  // keep different labels (a self-crossing keeps one label on all four sides).
+  // keep different labels (a self-crossing keeps one label on all four sides, unless the loop
+  // between its two passes leaves the image: the picture then shows two pieces, which may
+  // keep two labels).
   bool pairing_assessed = false, pairing_correct = false;
   // Order: the label at the crossing is the one matched (matched DICE) to the top rod. Not
   // assessed for a self-crossing: a label image cannot show which strand of one rod is on top.
