@@ -109,6 +109,20 @@ int contact_regions(const Case& c) {
   return cv::connectedComponents(contact, components, 8) - 1;
 }
 
+// The first rod whose body shows in the picture as more than one piece (it leaves the image
+// and comes back), as "rod <id> shows as <n> pieces"; empty when every rod is one piece. Such
+// a rod is several DLOs to any detector: nothing in the picture joins its pieces.
+std::string rod_in_pieces(const Case& c) {
+  const auto& amodal = c.scene.render.amodal;
+  const auto& rods = gt(c).rods;
+  cv::Mat components;
+  for (size_t i = 0; i < amodal.size() && i < rods.size(); ++i) {
+    const int pieces = cv::connectedComponents(amodal[i], components, 8) - 1;
+    if (pieces > 1) return "rod " + std::to_string(rods[i].id) + " shows as " + std::to_string(pieces) + " pieces";
+  }
+  return "";
+}
+
 Verdict check_two_rods(const SceneSpec& spec) {
   Verdict v;
   Result<Case> run = run_case(spec);
@@ -124,6 +138,7 @@ Verdict check_two_rods(const SceneSpec& spec) {
   // Crossing once: the rods' masks meet in one place. Where they also touch without
   // crossing, the mask merges them there, and touching strands are outside mBEST's model.
   if (contact_regions(c) > 1) return Verdict{"the rods also touch away from their crossing", {}};
+  if (const std::string split = rod_in_pieces(c); !split.empty()) return Verdict{split, {}};
   if (x.angle_deg < 20) return Verdict{"crossing angle " + fmt(x.angle_deg) + " deg < 20", {}};
   Result<validate::DiceScore> dice = dice_of(c);
   if (!dice) return Verdict{"", {dice.error().message}};
@@ -352,6 +367,7 @@ Verdict check_triple(const SceneSpec& spec) {
   const Case& c = run.value();
   const auto& a = gt(c);
   if (a.rods.size() != 3) return Verdict{"scene has " + std::to_string(a.rods.size()) + " rods", {}};
+  if (const std::string split = rod_in_pieces(c); !split.empty()) return Verdict{split, {}};
   Result<validate::DiceScore> dice = dice_of(c);
   if (!dice) return Verdict{"", {dice.error().message}};
   const auto resolution = validate::crossing_resolution(a, gt_labels(c), c.detection.labels, dice.value());
