@@ -152,6 +152,7 @@ constexpr ConfigField kConfigFields[] = {
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
+    {"border_fold_energy", &DetectorConfig::border_fold_energy, 0, 1000},
     {"colour_label_margin", &DetectorConfig::colour_label_margin, 0, 1000}};
 
 std::string out_of_range(const ConfigField& f, const std::string& value) {
@@ -218,7 +219,10 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return g;
   });
   const ColourSource colour{config.colour_weight > 0 ? bgr : cv::Mat(), r};
-  stage("prune", [&] { return prune_split_ends(graph, 2 * r, mask.size(), colour); });
+  stage("prune", [&] {
+    return prune_split_ends(graph, 2 * r, mask.size(), colour) +
+           cut_folds_at_border(graph, config.fit_radii * r, mask.size(), config.border_fold_energy);
+  });
   auto regions = stage("junctions", [&] {
     return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,
                            config.wide_radii * r);

@@ -113,4 +113,64 @@ int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image, const Colou
   return removed;
 }
 
+int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double fold_energy) {
+  const float kStraightArm = std::cos(static_cast<float>(M_PI) / 6);
+  const int k = std::max(2, static_cast<int>(reach));
+  int cuts = 0;
+  for (size_t bi = 0, n_branches = g.branches.size(); bi < n_branches; ++bi) {
+    if (!g.branches[bi].alive) continue;
+    const std::vector<cv::Point>& px = g.branches[bi].pixels;
+    const std::vector<float>& radius = g.branches[bi].radius;
+    const int n = static_cast<int>(px.size());
+    int tip = -1;
+    double sharpest = -1;  // cosine of the turn: -1 is a full turn back
+    for (int i = 2 * k; i + 2 * k < n; ++i) {
+      const cv::Point p = px[i];
+      const int to_border = 1 + std::min({p.x, p.y, image.width - 1 - p.x, image.height - 1 - p.y});
+      if (to_border > (radius.empty() ? 1.0f : radius[i]) + 1.5f) continue;
+      const cv::Point2f before = unit(cv::Point2f(p - px[i - k])), after = unit(cv::Point2f(px[i + k] - p));
+      // The arms run straight up to the tip: a small loop or a hairpin at the border turns
+      // as sharply, but all along.
+      if (unit(cv::Point2f(px[i - k] - px[i - 2 * k])).dot(before) < kStraightArm ||
+          unit(cv::Point2f(px[i + 2 * k] - px[i + k])).dot(after) < kStraightArm)
+        continue;
+      const double c = before.dot(after);
+      if (tip < 0 || c < sharpest) tip = i, sharpest = c;
+    }
+    if (tip < 0) continue;
+    const double quarter_turn = std::acos(std::clamp(sharpest, -1.0, 1.0)) / 4;
+    if (8 * std::tan(quarter_turn) * std::tan(quarter_turn) <= fold_energy) continue;
+
+    // Cut: pixels [0, tip - 1) stay with the branch, which now ends at pixel tip - 1; pixel
+    // tip - 1 and tip + 1 become ends, pixel tip is dropped; [tip + 2, n) is a new branch
+    // from the end at tip + 1 to the old far node.
+    const int first_end = static_cast<int>(g.nodes.size()), second_end = first_end + 1;
+    const int second = static_cast<int>(g.branches.size());
+    for (cv::Point at : {px[tip - 1], px[tip + 1]}) {
+      Node e;
+      e.kind = Node::Kind::end;
+      e.pixels = {at};
+      e.centre = cv::Point2f(at);
+      g.nodes.push_back(e);
+    }
+    Branch tail;
+    tail.pixels.assign(px.begin() + tip + 2, px.end());
+    if (!radius.empty()) tail.radius.assign(radius.begin() + tip + 2, radius.end());
+    tail.node[0] = second_end;
+    tail.node[1] = g.branches[bi].node[1];
+    Branch& head = g.branches[bi];
+    head.pixels.resize(tip - 1);
+    if (!head.radius.empty()) head.radius.resize(tip - 1);
+    for (BranchEnd& e : g.nodes[head.node[1]].branch_ends)
+      if (e == BranchEnd{static_cast<int>(bi), 1}) e = {second, 1};
+    head.node[1] = first_end;
+    for (Branch* b : {&head, &tail}) b->length = chain_length(b->pixels) + (b->pixels.empty() ? 1.0 : 2.0);
+    g.nodes[first_end].branch_ends = {{static_cast<int>(bi), 1}};
+    g.nodes[second_end].branch_ends = {{second, 0}};
+    g.branches.push_back(std::move(tail));
+    ++cuts;
+  }
+  return cuts;
+}
+
 }  // namespace mbest

@@ -318,6 +318,36 @@ TEST(Detector, RodsTouchingEndToEndInAVAreTwoDlos) {
   EXPECT_EQ(folded.value().dlos.size(), 1u) << "the scene must make the fold: else this test proves nothing";
 }
 
+TEST(Detector, RodsLeavingTheImageSideBySideAreTwoDlos) {
+  // Two straight rods leave through the top edge at one point, 74 degrees apart: the mask
+  // is a V with its tip on the border, and the skeleton runs round the tip without a junction.
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({240, 200}, {{{30, 150}, {120, -2}}, {{210, 150}, {120, -2}}}, 11, &gt);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 2u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
+  expect_labels_cover_mask(r.value(), mask);
+  DetectorConfig never_cut;
+  never_cut.border_fold_energy = 1000;
+  auto folded = detect(mask, cv::Mat(), never_cut);
+  ASSERT_TRUE(folded.ok());
+  EXPECT_EQ(folded.value().dlos.size(), 1u) << "the scene must make the fold: else this test proves nothing";
+}
+
+TEST(Detector, HairpinAtTheBorderStaysOneDlo) {
+  // One rod bent back in a hairpin of radius 13 px (about 2 radii) whose apex grazes the
+  // top edge: it turns as sharply as a V, but along the whole bend, so it is not cut.
+  std::vector<cv::Point> hairpin = test::arc({120, 19}, 13, M_PI, 2 * M_PI);
+  hairpin.insert(hairpin.begin(), cv::Point(107, 150));
+  hairpin.emplace_back(133, 150);
+  const cv::Mat mask = scene({240, 200}, {hairpin}, 11);
+  ASSERT_GT(cv::countNonZero(mask.row(0)), 0) << "the bend must touch the border";
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 1u);
+}
+
 TEST(Detector, CrossingInTheCornerDoesNotCrash) {
   // Two rods crossing where both leave the image: an L-shaped blob, ambiguous by nature.
   const cv::Mat mask = scene({200, 200}, {{{-20, 8}, {220, 8}}, {{5, -20}, {5, 220}}}, 13);

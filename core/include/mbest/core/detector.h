@@ -73,6 +73,13 @@ struct DetectorConfig {
   // DLOs touching end to end, or leaving the image side by side, meet that way
   // (bending.h, build_passages). Large values turn it off.
   double fold_energy = 4.0;
+  // Two DLOs leaving the image side by side touch where they leave, and thinning may run
+  // one branch round the V they make there. A branch that turns sharper than this (bending
+  // energy of the turn between 3 r chords before and after a pixel within a radius of the
+  // border; 1 is about 78 degrees) is cut there, when both arms run straight (within 30
+  // degrees) up to it: a smooth bend or a hairpin turns as much along its arms (prune.h,
+  // cut_folds_at_border). Large values turn it off.
+  double border_fold_energy = 1.0;
   // With the colour image and colour_weight > 0: inside a crossing region, a mask pixel goes
   // to the DLO whose colour it shows when that DLO's colour is nearer by at least this (Lab
   // units, lightness counted half) than any other's there, and within three times this

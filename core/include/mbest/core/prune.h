@@ -26,4 +26,17 @@ struct ColourSource {
 int prune_split_ends(SkeletonGraph& graph, double delta, cv::Size image,
                      const ColourSource& colour = ColourSource());
 
+// Two DLOs that leave the image side by side touch where they leave: the mask joins them
+// there into a V whose tip is on the border, and thinning runs one branch round the tip.
+// A branch is cut at a pixel within its radius (plus a pixel) of the border of an image of
+// size `image` where it turns back sharper than `fold_energy` and its arms run straight up
+// to that pixel. The turn is that between the chords `reach` px before and after the
+// pixel, scored as the bending energy of a turn at a point, 8 tan^2(turn / 4) (1 is about
+// 78 degrees, 4 about 140); straight arms turn less than 30 degrees between the chords
+// from 2 `reach` to `reach` px and from `reach` px to the pixel. A smooth bend turns as
+// much along its arms as at any pixel, and a hairpin whose bend is about `reach` long
+// turns 50 degrees or more along them: neither is cut. The pieces end at the pixels
+// before and after the cut. Returns the number of cuts.
+int cut_folds_at_border(SkeletonGraph& graph, double reach, cv::Size image, double fold_energy);
+
 }  // namespace mbest
