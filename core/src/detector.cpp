@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "mbest/core/bending.h"
 #include "mbest/core/crossing_order.h"
@@ -69,30 +70,64 @@ cv::Point2f closest_approach(const std::vector<cv::Point>& a, const std::vector<
   return at;
 }
 
-// Fills Detection::crossings and Dlo::crossings, and lists the strands to draw on top.
+// Do two paths cross or touch? Each is a chain of pixels; the polylines through their
+// centres are tested segment against segment, exactly, in integers.
+bool paths_meet(const std::vector<cv::Point>& a, const std::vector<cv::Point>& b) {
+  if (a.empty() || b.empty()) return false;
+  const cv::Rect box_a = cv::boundingRect(a), box_b = cv::boundingRect(b);
+  if ((box_a & cv::Rect(box_b.x - 1, box_b.y - 1, box_b.width + 2, box_b.height + 2)).empty()) return false;
+  const auto side = [](cv::Point o, cv::Point p, cv::Point q) {  // sign of (p - o) x (q - o)
+    const long long c = static_cast<long long>(p.x - o.x) * (q.y - o.y) -
+                        static_cast<long long>(p.y - o.y) * (q.x - o.x);
+    return (c > 0) - (c < 0);
+  };
+  const auto within = [](cv::Point o, cv::Point p, cv::Point q) {  // q on segment o-p, if collinear
+    return std::min(o.x, p.x) <= q.x && q.x <= std::max(o.x, p.x) && std::min(o.y, p.y) <= q.y &&
+           q.y <= std::max(o.y, p.y);
+  };
+  const auto segments_meet = [&](cv::Point p1, cv::Point p2, cv::Point q1, cv::Point q2) {
+    const int d1 = side(q1, q2, p1), d2 = side(q1, q2, p2), d3 = side(p1, p2, q1), d4 = side(p1, p2, q2);
+    if (d1 * d2 < 0 && d3 * d4 < 0) return true;  // a proper crossing
+    return (d1 == 0 && within(q1, q2, p1)) || (d2 == 0 && within(q1, q2, p2)) ||
+           (d3 == 0 && within(p1, p2, q1)) || (d4 == 0 && within(p1, p2, q2));
+  };
+  const size_t na = std::max<size_t>(a.size(), 2) - 1, nb = std::max<size_t>(b.size(), 2) - 1;
+  for (size_t i = 0; i < na; ++i) {
+    const cv::Point a1 = a[i], a2 = a[std::min(i + 1, a.size() - 1)];
+    for (size_t j = 0; j < nb; ++j)
+      if (segments_meet(a1, a2, b[j], b[std::min(j + 1, b.size() - 1)])) return true;
+  }
+  return false;
+}
+
+// Fills Detection::crossings and Dlo::crossings, and lists the strands to draw on top. A
+// crossing is two strands whose paths through a crossing region meet: a region where three
+// strands cross (a triple point) holds three, and one where two strands touch without
+// crossing holds none. So the crossings found do not depend on how nearby junctions were
+// grouped into regions. Within a region the order is the region's (top first).
 std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passage>& passages,
                                         const std::vector<CrossingRegion>& regions,
                                         const Traversal& tr,
                                         const std::vector<std::vector<int>>& ordered) {
   std::vector<TopStrand> tops;
-  std::vector<int> crossing_of(passages.size(), -1);
+  std::vector<std::vector<int>> crossings_of(passages.size());
   for (const std::vector<int>& list : ordered) {
     std::vector<int> strands;
     for (int p : list)
       if (tr.passage_dlo[p] >= 0) strands.push_back(p);
     if (strands.size() < 2) continue;
-    Crossing c;
     const cv::Point2f centre = regions[passages[strands[0]].region].centre;
-    c.location = closest_approach(passages[strands[0]].path, passages[strands[1]].path, centre);
-    c.angle_deg = 90;
-    for (size_t i = 0; i < strands.size(); ++i) {
-      c.dlos.push_back(tr.passage_dlo[strands[i]]);
-      crossing_of[strands[i]] = static_cast<int>(det.crossings.size());
-      for (size_t j = i + 1; j < strands.size(); ++j)
-        c.angle_deg = std::min(c.angle_deg, line_angle_deg(direction(passages[strands[i]]),
-                                                           direction(passages[strands[j]])));
-    }
-    det.crossings.push_back(std::move(c));
+    for (size_t i = 0; i < strands.size(); ++i)
+      for (size_t j = i + 1; j < strands.size(); ++j) {
+        const Passage &top = passages[strands[i]], &under = passages[strands[j]];
+        if (!paths_meet(top.path, under.path)) continue;
+        Crossing c;
+        c.location = closest_approach(top.path, under.path, centre);
+        c.angle_deg = line_angle_deg(direction(top), direction(under));
+        c.dlos = {tr.passage_dlo[strands[i]], tr.passage_dlo[strands[j]]};
+        for (int p : {strands[i], strands[j]}) crossings_of[p].push_back(static_cast<int>(det.crossings.size()));
+        det.crossings.push_back(std::move(c));
+      }
     for (size_t i = strands.size() - 1; i-- > 0;) {  // bottom to top, the bottom one not drawn
       const Passage& p = passages[strands[i]];
       tops.push_back({tr.passage_dlo[strands[i]], p.path, p.radius});
@@ -100,7 +135,7 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
   }
   for (size_t d = 0; d < det.dlos.size(); ++d)
     for (int p : tr.dlo_passages[d])
-      if (crossing_of[p] >= 0) det.dlos[d].crossings.push_back(crossing_of[p]);
+      det.dlos[d].crossings.insert(det.dlos[d].crossings.end(), crossings_of[p].begin(), crossings_of[p].end());
   return tops;
 }
 

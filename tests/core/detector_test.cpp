@@ -1,6 +1,9 @@
 // End-to-end: drawn scenes through the whole pipeline, and bad input.
 #include "mbest/core/detector.h"
 
+#include <set>
+#include <utility>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -278,8 +281,17 @@ TEST(Detector, ThreeRodsThroughOnePoint) {
   ASSERT_TRUE(r.ok());
   const Detection& d = r.value();
   ASSERT_EQ(d.dlos.size(), 3u);
-  ASSERT_EQ(d.crossings.size(), 1u);
-  EXPECT_EQ(d.crossings[0].dlos.size(), 3u);
+  // One crossing per pair of DLOs, near the centre; each DLO takes part in two.
+  ASSERT_EQ(d.crossings.size(), 3u);
+  std::set<std::pair<int, int>> pairs;
+  for (const Crossing& c : d.crossings) {
+    ASSERT_EQ(c.dlos.size(), 2u);
+    pairs.insert(std::minmax(c.dlos[0], c.dlos[1]));
+    EXPECT_LT(cv::norm(c.location - cv::Point2f(200, 200)), 10.0);
+    EXPECT_NEAR(c.angle_deg, 60, 5);
+  }
+  EXPECT_EQ(pairs, (std::set<std::pair<int, int>>{{0, 1}, {0, 2}, {1, 2}}));
+  for (const Dlo& dlo : d.dlos) EXPECT_EQ(dlo.crossings.size(), 2u);
   // Each DLO runs straight: its ends are on opposite sides of the centre.
   for (const Dlo& dlo : d.dlos) {
     const cv::Point2f a(dlo.centerline.front()), b(dlo.centerline.back()), c(200, 200);
@@ -287,6 +299,26 @@ TEST(Detector, ThreeRodsThroughOnePoint) {
     EXPECT_GT(cv::norm(a - b), 300);
   }
   EXPECT_GT(test::strict_dice(gt, d.labels), 0.9);
+}
+
+TEST(Detector, RodsTouchingWithoutCrossingHaveNoCrossing) {
+  // Two arcs of two colours bulging towards each other, touching at (200, 115): the mask
+  // joins them there, so the skeleton has a junction, but neither strand passes over the
+  // other. (Without colour the pairing there is a tie.)
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({400, 230},
+                             {test::arc({200, -60}, 172, 0.35, M_PI - 0.35),
+                              test::arc({200, 290}, 172, -M_PI + 0.35, -0.35)},
+                             13, &gt);
+  ASSERT_GT(cv::countNonZero(gt[0] & gt[1]), 0) << "the rods must touch";
+  cv::Mat bgr(mask.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+  bgr.setTo(cv::Scalar(40, 40, 200), gt[0]);
+  bgr.setTo(cv::Scalar(200, 90, 30), gt[1]);
+  auto r = detect(mask, bgr);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 2u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
+  EXPECT_TRUE(r.value().crossings.empty()) << r.value().crossings.size() << " crossings";
 }
 
 TEST(Detector, RodsLeavingTheImageAndCrossingNearTheBorder) {

@@ -12,11 +12,12 @@
 
 namespace mbest {
 
-// One crossing: where two (or more) strands pass over each other.
+// One crossing: where two strands pass over each other (their paths through a crossing
+// region meet). Three strands through one point are three crossings, one per pair.
 struct Crossing {
-  cv::Point2f location;  // crossing centre, pixels
-  double angle_deg = 0;  // smallest angle between the strands' tangents, in [0, 90]
-  // DLO indices of the strands, top first. A self-crossing lists the same DLO twice.
+  cv::Point2f location;  // where the two paths come closest, pixels
+  double angle_deg = 0;  // angle between the strands' tangents, in [0, 90]
+  // DLO indices of the two strands, top first. A self-crossing lists the same DLO twice.
   std::vector<int> dlos;
 };
 
@@ -27,7 +28,9 @@ struct Dlo {
   std::vector<cv::Point> centerline;
   std::vector<float> radius;  // radius in pixels at each centerline pixel (same length)
   bool closed = false;
-  std::vector<int> crossings;  // indices into Detection::crossings, in traversal order
+  // Indices into Detection::crossings, in traversal order (by index where one passage
+  // through a region takes part in several).
+  std::vector<int> crossings;
 };
 
 struct StageTime {
