@@ -341,6 +341,9 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
     if (region.exits.size() < 2) continue;
     const std::vector<BranchTangent> tangents = cache.of(region.exits);
     if (tangents.size() == 2 && pair_cost(tangents[0], tangents[1], 0) > fold_energy) continue;
+    if (tangents.size() == 2 && colour_weight > 0 &&
+        colour_penalty(tangents[0], tangents[1]) >= kColourPenaltyMax)
+      continue;
     for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
       Passage p;
       p.region = r;

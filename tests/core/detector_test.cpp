@@ -380,6 +380,24 @@ TEST(Detector, HairpinAtTheBorderStaysOneDlo) {
   EXPECT_EQ(r.value().dlos.size(), 1u);
 }
 
+TEST(Detector, RodsOfTwoColoursTouchingEndToEndAreTwoDlos) {
+  // A green rod comes down and ends where a red one starts, the red one's round end a little
+  // past the green one's side: the mask is one gently bent path with a bump there, and only
+  // the colours tell the rods apart.
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({320, 260}, {{{80, 20}, {110, 120}, {130, 200}}, {{122, 208}, {200, 220}, {300, 215}}}, 13, &gt);
+  cv::Mat bgr(mask.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+  bgr.setTo(cv::Scalar(60, 170, 40), gt[0]);
+  bgr.setTo(cv::Scalar(70, 60, 210), gt[1]);
+  auto r = detect(mask, bgr);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 2u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
+  auto joined = detect(mask);
+  ASSERT_TRUE(joined.ok());
+  EXPECT_EQ(joined.value().dlos.size(), 1u) << "without colour the rods must join: else this test proves nothing";
+}
+
 TEST(Detector, CrossingInTheCornerDoesNotCrash) {
   // Two rods crossing where both leave the image: an L-shaped blob, ambiguous by nature.
   const cv::Mat mask = scene({200, 200}, {{{-20, 8}, {220, 8}}, {{5, -20}, {5, 220}}}, 13);
