@@ -31,6 +31,13 @@ void expect_labels_cover_mask(const Detection& d, const cv::Mat& mask) {
   EXPECT_EQ(cv::countNonZero(in_mask & ~labelled), 0) << "mask pixels without a label";
 }
 
+// A black picture with each instance of `gt` painted in its colour (BGR), in order.
+cv::Mat painted(const std::vector<cv::Mat>& gt, const std::vector<cv::Scalar>& colours) {
+  cv::Mat bgr(gt.at(0).size(), CV_8UC3, cv::Scalar(0, 0, 0));
+  for (size_t k = 0; k < gt.size(); ++k) bgr.setTo(colours.at(k), gt[k]);
+  return bgr;
+}
+
 TEST(Detector, StraightRodIsOneOpenDloEndToEnd) {
   const cv::Mat mask = scene({300, 120}, {{{20, 60}, {280, 60}}}, 15);
   auto r = detect(mask);
@@ -166,9 +173,7 @@ TEST(Detector, SideBySideRodsOfTwoColoursAreLabelledByColour) {
   }
   std::vector<cv::Mat> gt;
   const cv::Mat mask = scene(size, {red, blue}, 13, &gt);
-  cv::Mat bgr(size, CV_8UC3, cv::Scalar(0, 0, 0));
-  bgr.setTo(cv::Scalar(40, 40, 200), gt[0]);
-  bgr.setTo(cv::Scalar(200, 90, 30), gt[1]);
+  const cv::Mat bgr = painted(gt, {cv::Scalar(40, 40, 200), cv::Scalar(200, 90, 30)});
   auto r = detect(mask, bgr);
   ASSERT_TRUE(r.ok());
   ASSERT_EQ(r.value().dlos.size(), 2u);
@@ -311,9 +316,7 @@ TEST(Detector, RodsTouchingWithoutCrossingHaveNoCrossing) {
                               test::arc({200, 290}, 172, -M_PI + 0.35, -0.35)},
                              13, &gt);
   ASSERT_GT(cv::countNonZero(gt[0] & gt[1]), 0) << "the rods must touch";
-  cv::Mat bgr(mask.size(), CV_8UC3, cv::Scalar(0, 0, 0));
-  bgr.setTo(cv::Scalar(40, 40, 200), gt[0]);
-  bgr.setTo(cv::Scalar(200, 90, 30), gt[1]);
+  const cv::Mat bgr = painted(gt, {cv::Scalar(40, 40, 200), cv::Scalar(200, 90, 30)});
   auto r = detect(mask, bgr);
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r.value().dlos.size(), 2u);
@@ -332,22 +335,29 @@ TEST(Detector, RodsLeavingTheImageAndCrossingNearTheBorder) {
   expect_labels_cover_mask(r.value(), mask);
 }
 
+// The two rods `gt` of `mask` meet in a V: they come out as two DLOs, and as one DLO folded
+// back when `without` turns off the rule that parts them (else the test proves nothing).
+void expect_two_dlos_not_one_folded(const cv::Mat& mask, const std::vector<cv::Mat>& gt,
+                                    const DetectorConfig& without) {
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 2u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
+  expect_labels_cover_mask(r.value(), mask);
+  auto folded = detect(mask, cv::Mat(), without);
+  ASSERT_TRUE(folded.ok());
+  EXPECT_EQ(folded.value().dlos.size(), 1u) << "the scene must make the fold: else this test proves nothing";
+}
+
 // Two rods whose ends touch at a sharp angle: the mask is a V, and the skeleton's spur at
 // its tip is pruned, leaving a junction with two exits. Joining them would fold one DLO
 // back on itself by 155 degrees.
 TEST(Detector, RodsTouchingEndToEndInAVAreTwoDlos) {
   std::vector<cv::Mat> gt;
   const cv::Mat mask = scene({240, 240}, {{{80, 220}, {120, 40}}, {{160, 220}, {120, 40}}}, 13, &gt);
-  auto r = detect(mask);
-  ASSERT_TRUE(r.ok());
-  EXPECT_EQ(r.value().dlos.size(), 2u);
-  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
-  expect_labels_cover_mask(r.value(), mask);
   DetectorConfig never_fold_apart;
   never_fold_apart.fold_energy = 1000;
-  auto folded = detect(mask, cv::Mat(), never_fold_apart);
-  ASSERT_TRUE(folded.ok());
-  EXPECT_EQ(folded.value().dlos.size(), 1u) << "the scene must make the fold: else this test proves nothing";
+  expect_two_dlos_not_one_folded(mask, gt, never_fold_apart);
 }
 
 TEST(Detector, RodsLeavingTheImageSideBySideAreTwoDlos) {
@@ -355,16 +365,9 @@ TEST(Detector, RodsLeavingTheImageSideBySideAreTwoDlos) {
   // is a V with its tip on the border, and the skeleton runs round the tip without a junction.
   std::vector<cv::Mat> gt;
   const cv::Mat mask = scene({240, 200}, {{{30, 150}, {120, -2}}, {{210, 150}, {120, -2}}}, 11, &gt);
-  auto r = detect(mask);
-  ASSERT_TRUE(r.ok());
-  EXPECT_EQ(r.value().dlos.size(), 2u);
-  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
-  expect_labels_cover_mask(r.value(), mask);
   DetectorConfig never_cut;
   never_cut.border_fold_energy = 1000;
-  auto folded = detect(mask, cv::Mat(), never_cut);
-  ASSERT_TRUE(folded.ok());
-  EXPECT_EQ(folded.value().dlos.size(), 1u) << "the scene must make the fold: else this test proves nothing";
+  expect_two_dlos_not_one_folded(mask, gt, never_cut);
 }
 
 TEST(Detector, HairpinAtTheBorderStaysOneDlo) {
@@ -386,10 +389,7 @@ TEST(Detector, RodsOfTwoColoursTouchingEndToEndAreTwoDlos) {
   // the colours tell the rods apart.
   std::vector<cv::Mat> gt;
   const cv::Mat mask = scene({320, 260}, {{{80, 20}, {110, 120}, {130, 200}}, {{122, 208}, {200, 220}, {300, 215}}}, 13, &gt);
-  cv::Mat bgr(mask.size(), CV_8UC3, cv::Scalar(0, 0, 0));
-  bgr.setTo(cv::Scalar(60, 170, 40), gt[0]);
-  bgr.setTo(cv::Scalar(70, 60, 210), gt[1]);
-  auto r = detect(mask, bgr);
+  auto r = detect(mask, painted(gt, {cv::Scalar(60, 170, 40), cv::Scalar(70, 60, 210)}));
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r.value().dlos.size(), 2u);
   EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
