@@ -340,12 +340,7 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
     const CrossingRegion& region = regions[r];
     if (region.exits.size() < 2) continue;
     const std::vector<BranchTangent> tangents = cache.of(region.exits);
-    // Two exits have one possible pair, and it is no strand when it folds back or joins two
-    // colours: a DLO neither folds at a point nor changes colour.
-    if (tangents.size() == 2 &&
-        (pair_cost(tangents[0], tangents[1], 0) > fold_energy ||
-         (colour_weight > 0 && colour_penalty(tangents[0], tangents[1]) >= kColourPenaltyMax)))
-      continue;
+    if (tangents.size() == 2 && pair_cost(tangents[0], tangents[1], 0) > fold_energy) continue;
     for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
       Passage p;
       p.region = r;

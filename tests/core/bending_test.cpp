@@ -325,25 +325,5 @@ TEST(Bending, TwoYsWhoseStrandsBothRunThroughAreOneCrossing) {
   }
 }
 
-// A junction left with two exits (a split end pruned from it), the strand bending 29
-// degrees through it: one DLO when both branches have one colour, two DLOs ending there
-// when their colours clearly differ (a DLO has one colour).
-TEST(Bending, TwoExitsOfClearlyDifferentColoursAreNotJoined) {
-  const auto passages = [](const cv::Scalar& second, double colour_weight) {
-    HandGraph h;
-    h.bgr = cv::Mat(200, 200, CV_8UC3, cv::Scalar(0, 0, 0));
-    const int j = h.node({100, 100}, Node::Kind::junction);
-    h.branch(h.node({40, 40}, Node::Kind::end), j, cv::Scalar(60, 170, 40));
-    h.branch(j, h.node({170, 120}, Node::Kind::end), second);
-    const std::vector<CrossingRegion> regions = h.regions_of({j});
-    const PairingSetup setup{2, 8, h.bgr, colour_weight};
-    TangentCache cache(h.graph, setup);
-    return build_passages(regions, cache, 4.0).size();
-  };
-  EXPECT_EQ(passages(cv::Scalar(60, 170, 40), 2.0), 1u) << "one colour: one strand";
-  EXPECT_EQ(passages(cv::Scalar(70, 60, 210), 2.0), 0u) << "green meets red: two ends";
-  EXPECT_EQ(passages(cv::Scalar(70, 60, 210), 0.0), 1u) << "colour off: the bend alone joins them";
-}
-
 }  // namespace
 }  // namespace mbest

@@ -168,9 +168,8 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // The bending stage: for every crossing region, the tangents of its exits (from the graph
 // `tangents` was made for) and the pairing of least total cost; one Passage per pair. A
 // region with two exits (a bend the skeleton made into a junction) gets its single forced
-// passage unless it folds back with a bending energy above `fold_energy`, or, with colour,
-// the two exits' colours clearly differ (the full colour penalty, 30 Lab units or more: a
-// DLO has one colour): then both strands end there.
+// passage unless it folds back with a bending energy above `fold_energy`: then both
+// strands end there.
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
                                     TangentCache& tangents,
                                     double fold_energy = std::numeric_limits<double>::infinity());
