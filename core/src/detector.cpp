@@ -100,10 +100,84 @@ bool paths_meet(const std::vector<cv::Point>& a, const std::vector<cv::Point>& b
   return false;
 }
 
+// Which side of `path` is `p` on: +1 or -1 (the path's direction near its point closest
+// to p, crossed with the way from there to p), or 0 within `margin` px of it. Past either
+// end of the path this is the side of its end direction, extended.
+int side_of_path(const std::vector<cv::Point>& path, cv::Point p, double margin = 0) {
+  size_t k = 0;
+  long long best = std::numeric_limits<long long>::max();
+  for (size_t i = 0; i < path.size(); ++i) {
+    const long long dx = p.x - path[i].x, dy = p.y - path[i].y, d = dx * dx + dy * dy;
+    if (d < best) best = d, k = i;
+  }
+  if (best == 0 || best < margin * margin) return 0;
+  constexpr size_t kReach = 3;  // pixels either side: a direction, not a pixel step
+  const cv::Point dir = path[std::min(k + kReach, path.size() - 1)] - path[k >= kReach ? k - kReach : 0];
+  const cv::Point to = p - path[k];
+  const long long c = static_cast<long long>(dir.x) * to.y - static_cast<long long>(dir.y) * to.x;
+  return (c > 0) - (c < 0);
+}
+
+// Where path `b` goes over to the other side of path `a`, leaving a pixel's margin so that
+// two paths touching side by side do not count: one point per change of side.
+std::vector<cv::Point2f> side_changes(const std::vector<cv::Point>& a, const std::vector<cv::Point>& b) {
+  constexpr double kMargin = 1;
+  std::vector<cv::Point2f> at;
+  int last = 0;
+  cv::Point last_point;
+  for (const cv::Point& p : b) {
+    const int s = side_of_path(a, p, kMargin);
+    if (s == 0) continue;
+    if (last != 0 && s != last) at.push_back((cv::Point2f(p) + cv::Point2f(last_point)) * 0.5f);
+    last = s;
+    last_point = p;
+  }
+  return at;
+}
+
+// A path's direction at its pixel nearest to `at`, over a few pixels either side.
+cv::Point2f direction_near(const std::vector<cv::Point>& path, cv::Point2f at) {
+  size_t k = 0;
+  double best = std::numeric_limits<double>::max();
+  for (size_t i = 0; i < path.size(); ++i) {
+    const double d = cv::norm(cv::Point2f(path[i]) - at);
+    if (d < best) best = d, k = i;
+  }
+  constexpr size_t kReach = 6;
+  return cv::Point2f(path[std::min(k + kReach, path.size() - 1)] - path[k >= kReach ? k - kReach : 0]);
+}
+
+struct CrossingPoint {
+  cv::Point2f at;
+  double angle_deg;
+};
+
+// How many times two strands whose paths meet cross each other, where and at what angle:
+// - once if each path's ends lie on the two sides of the other (they swap sides), at their
+//   closest approach, at the angle between their fitted tangents;
+// - twice if they do not, yet each path goes over to the other's far side and back (a
+//   near-parallel pair twisted once round the other inside one crossing region), where they
+//   change sides, at the angle of their paths there (their tangents are nearly parallel);
+// - not at all otherwise, as when they touch and go on as they were, however their drawn
+//   pixels happen to touch.
+std::vector<CrossingPoint> crossings_between(const Passage& a, const Passage& b, cv::Point2f centre) {
+  if (a.path.size() < 2 || b.path.size() < 2) return {};
+  if (side_of_path(a.path, b.path.front()) * side_of_path(a.path, b.path.back()) < 0 &&
+      side_of_path(b.path, a.path.front()) * side_of_path(b.path, a.path.back()) < 0)
+    return {{closest_approach(a.path, b.path, centre), line_angle_deg(direction(a), direction(b))}};
+  const std::vector<cv::Point2f> b_over = side_changes(a.path, b.path), a_over = side_changes(b.path, a.path);
+  if (b_over.size() < 2 || a_over.size() < 2) return {};
+  std::vector<CrossingPoint> out;
+  for (const cv::Point2f& at : {b_over.front(), b_over.back()})
+    out.push_back({at, line_angle_deg(direction_near(a.path, at), direction_near(b.path, at))});
+  return out;
+}
+
 // Fills Detection::crossings and Dlo::crossings, and lists the strands to draw on top. A
-// crossing is two strands whose paths through a crossing region meet: a region where three
-// strands cross (a triple point) holds three, and one where two strands touch without
-// crossing holds none. So the crossings found do not depend on how nearby junctions were
+// crossing is two strands whose paths through a crossing region meet and cross over
+// (crossings_between): a region where three strands cross (a triple point) holds three, one
+// where two strands touch without crossing holds none, and one where two twist once round
+// each other holds two. So the crossings found do not depend on how nearby junctions were
 // grouped into regions. Within a region the order is the region's (top first).
 std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passage>& passages,
                                         const std::vector<CrossingRegion>& regions,
@@ -121,12 +195,14 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
       for (size_t j = i + 1; j < strands.size(); ++j) {
         const Passage &top = passages[strands[i]], &under = passages[strands[j]];
         if (!paths_meet(top.path, under.path)) continue;
-        Crossing c;
-        c.location = closest_approach(top.path, under.path, centre);
-        c.angle_deg = line_angle_deg(direction(top), direction(under));
-        c.dlos = {tr.passage_dlo[strands[i]], tr.passage_dlo[strands[j]]};
-        for (int p : {strands[i], strands[j]}) crossings_of[p].push_back(static_cast<int>(det.crossings.size()));
-        det.crossings.push_back(std::move(c));
+        for (const CrossingPoint& x : crossings_between(top, under, centre)) {
+          Crossing c;
+          c.location = x.at;
+          c.angle_deg = x.angle_deg;
+          c.dlos = {tr.passage_dlo[strands[i]], tr.passage_dlo[strands[j]]};
+          for (int p : {strands[i], strands[j]}) crossings_of[p].push_back(static_cast<int>(det.crossings.size()));
+          det.crossings.push_back(std::move(c));
+        }
       }
     for (size_t i = strands.size() - 1; i-- > 0;) {  // bottom to top, the bottom one not drawn
       const Passage& p = passages[strands[i]];

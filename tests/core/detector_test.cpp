@@ -1,6 +1,7 @@
 // End-to-end: drawn scenes through the whole pipeline, and bad input.
 #include "mbest/core/detector.h"
 
+#include <algorithm>
 #include <set>
 #include <utility>
 
@@ -322,6 +323,34 @@ TEST(Detector, RodsTouchingWithoutCrossingHaveNoCrossing) {
   EXPECT_EQ(r.value().dlos.size(), 2u);
   EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
   EXPECT_TRUE(r.value().crossings.empty()) << r.value().crossings.size() << " crossings";
+}
+
+TEST(Detector, RodsTwistedOnceRoundEachOtherCrossTwice) {
+  // A straight rod, and a parabola running along it that crosses it at x = 160 and at
+  // x = 240, about 14 degrees, 5 px to its far side in between: one crossing region, whose
+  // strands enter and leave on the same sides. Two crossings, not one and not none.
+  std::vector<cv::Point> twisted;
+  for (int x = 10; x <= 390; x += 5) twisted.emplace_back(x, cvRound(95 + 5 * (x - 200.0) * (x - 200.0) / 1600));
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({400, 220}, {{{10, 100}, {390, 100}}, twisted}, 11, &gt);
+  const cv::Mat bgr = painted(gt, {cv::Scalar(40, 40, 200), cv::Scalar(200, 90, 30)});
+  auto r = detect(mask, bgr);
+  ASSERT_TRUE(r.ok());
+  const Detection& d = r.value();
+  ASSERT_EQ(d.dlos.size(), 2u);
+  EXPECT_GT(test::strict_dice(gt, d.labels), 0.9);
+  ASSERT_EQ(d.crossings.size(), 2u);
+  std::vector<float> xs;
+  for (const Crossing& c : d.crossings) {
+    EXPECT_NEAR(c.location.y, 100, 6);
+    EXPECT_GT(c.angle_deg, 5);
+    EXPECT_LT(c.angle_deg, 25);
+    EXPECT_EQ(std::set<int>(c.dlos.begin(), c.dlos.end()).size(), 2u);
+    xs.push_back(c.location.x);
+  }
+  std::sort(xs.begin(), xs.end());
+  EXPECT_NEAR(xs[0], 160, 12);
+  EXPECT_NEAR(xs[1], 240, 12);
 }
 
 TEST(Detector, RodsLeavingTheImageAndCrossingNearTheBorder) {
