@@ -100,20 +100,33 @@ bool paths_meet(const std::vector<cv::Point>& a, const std::vector<cv::Point>& b
   return false;
 }
 
+// The index of the pixel of `path` nearest to `at` (the first of equals), and its squared
+// distance.
+size_t nearest_pixel(const std::vector<cv::Point>& path, cv::Point2f at, float* distance_squared) {
+  size_t k = 0;
+  float best = std::numeric_limits<float>::max();
+  for (size_t i = 0; i < path.size(); ++i) {
+    const cv::Point2f d = cv::Point2f(path[i]) - at;
+    const float d2 = d.dot(d);
+    if (d2 < best) best = d2, k = i;
+  }
+  *distance_squared = best;
+  return k;
+}
+
+// A path's direction at its pixel k: from `reach` pixels before it to `reach` after.
+cv::Point path_direction(const std::vector<cv::Point>& path, size_t k, size_t reach) {
+  return path[std::min(k + reach, path.size() - 1)] - path[k >= reach ? k - reach : 0];
+}
+
 // Which side of `path` is `p` on: +1 or -1 (the path's direction near its point closest
 // to p, crossed with the way from there to p), or 0 within `margin` px of it. Past either
 // end of the path this is the side of its end direction, extended.
 int side_of_path(const std::vector<cv::Point>& path, cv::Point p, double margin = 0) {
-  size_t k = 0;
-  long long best = std::numeric_limits<long long>::max();
-  for (size_t i = 0; i < path.size(); ++i) {
-    const long long dx = p.x - path[i].x, dy = p.y - path[i].y, d = dx * dx + dy * dy;
-    if (d < best) best = d, k = i;
-  }
-  if (best == 0 || best < margin * margin) return 0;
-  constexpr size_t kReach = 3;  // pixels either side: a direction, not a pixel step
-  const cv::Point dir = path[std::min(k + kReach, path.size() - 1)] - path[k >= kReach ? k - kReach : 0];
-  const cv::Point to = p - path[k];
+  float d2 = 0;
+  const size_t k = nearest_pixel(path, p, &d2);
+  if (d2 == 0 || d2 < margin * margin) return 0;
+  const cv::Point dir = path_direction(path, k, 3), to = p - path[k];
   const long long c = static_cast<long long>(dir.x) * to.y - static_cast<long long>(dir.y) * to.x;
   return (c > 0) - (c < 0);
 }
@@ -137,14 +150,8 @@ std::vector<cv::Point2f> side_changes(const std::vector<cv::Point>& a, const std
 
 // A path's direction at its pixel nearest to `at`, over a few pixels either side.
 cv::Point2f direction_near(const std::vector<cv::Point>& path, cv::Point2f at) {
-  size_t k = 0;
-  double best = std::numeric_limits<double>::max();
-  for (size_t i = 0; i < path.size(); ++i) {
-    const double d = cv::norm(cv::Point2f(path[i]) - at);
-    if (d < best) best = d, k = i;
-  }
-  constexpr size_t kReach = 6;
-  return cv::Point2f(path[std::min(k + kReach, path.size() - 1)] - path[k >= kReach ? k - kReach : 0]);
+  float d2 = 0;
+  return cv::Point2f(path_direction(path, nearest_pixel(path, at, &d2), 6));
 }
 
 struct CrossingPoint {
