@@ -139,7 +139,8 @@ void add_eval_command(CLI::App& app, int* exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "eval",
       "Score predictions against a data set's ground truth: matched DICE per tier (strict, "
-      "lenient, count errors); on synthetic data also crossing resolution and centerline error. "
+      "lenient, count errors); on synthetic data also crossing resolution and centerline error, "
+      "and in the reports the detector's crossing list (beyond metrics.md). "
       "Exit code 1 on bad input, 2 when a tier misses a gate (--min-dice, --max-below-95, "
       "--max-count-errors).");
   auto a = std::make_shared<EvalArgs>();

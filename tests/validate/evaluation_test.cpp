@@ -192,7 +192,10 @@ TEST(Evaluation, SyntheticScenesGetCrossingsAndCenterlines) {
   for (size_t i = 0; i < scene.rods[1].centerline.size(); ++i)
     json += (i ? ",[" : "[") + std::to_string(scene.rods[1].centerline[i].x + 1) + "," +
             std::to_string(scene.rods[1].centerline[i].y) + "]";
-  json += "]}, {\"centerline\": [[5, 40], [95, 40]]}]}";
+  json += "]}, {\"centerline\": [[5, 40], [95, 40]]}]";
+  // One crossing, rod 1 (label 2) on top, 1.5 degrees off; one more that is not there.
+  json += R"(, "crossings": [{"location": [52, 41], "angle_deg": 58.5, "dlos_top_first": [2, 1]},
+                             {"location": [20, 40], "angle_deg": 10, "dlos_top_first": [2, 1]}]})";
   write_text(pred / "s2" / "images" / "000000.json", json);
 
   Result<Dataset> d = open_dataset((root / "data").string());
@@ -215,6 +218,13 @@ TEST(Evaluation, SyntheticScenesGetCrossingsAndCenterlines) {
   EXPECT_GT(p2g.mean, 0.1);  // rod 2's prediction is one pixel to the right...
   EXPECT_LT(p2g.mean, 1.0);  // ...which is under a pixel from a 60-degree line
   EXPECT_EQ(p2g.count, static_cast<int>(scene.rods[1].centerline.size()) + 2);
+  ASSERT_TRUE(r.has_crossing_list);
+  EXPECT_EQ(r.crossing_list.gt, 1);
+  EXPECT_EQ(r.crossing_list.detected, 2);
+  ASSERT_EQ(r.crossing_list.matches.size(), 1u);
+  EXPECT_EQ(r.crossing_list.matches[0].detected, 0);
+  EXPECT_TRUE(r.crossing_list.matches[0].top_correct);
+  EXPECT_DOUBLE_EQ(r.crossing_list.matches[0].angle_error_deg, 1.5);
 
   const Summary s = summarise(e.value());
   EXPECT_EQ(s.all.crossings, 1);
@@ -222,13 +232,92 @@ TEST(Evaluation, SyntheticScenesGetCrossingsAndCenterlines) {
   EXPECT_EQ(s.pairing_by_complexity[1].assessed, 1);  // max(0.5, 4.0) is in 3.14-6.28
   EXPECT_EQ(s.rod_dice_by_complexity[0].count, 1);
   EXPECT_EQ(s.rod_dice_by_complexity[1].count, 1);
+  const CrossingListTotals& l = s.all.crossing_list;
+  EXPECT_EQ(l.images, 1);
+  EXPECT_EQ(l.gt, 1);
+  EXPECT_EQ(l.detected, 2);
+  EXPECT_EQ(l.matched, 1);
+  EXPECT_EQ(l.count_equal, 0);
+  EXPECT_EQ(l.top_assessed, 1);
+  EXPECT_EQ(l.top_correct, 1);
+  EXPECT_DOUBLE_EQ(l.angle_error_median, 1.5);
+}
+
+TEST(Evaluation, CrossingListsOfSeveralImagesAddUp) {
+  const fs::path root = fresh_dir(), pred = root / "pred";
+  const std::string dlos = R"("dlos": [{"centerline": [[5, 40]]}, {"centerline": [[5, 40]]}])";
+  // Three images of the same scene, prediction = ground truth (rod 1 is label 1): the crossing
+  // listed right, with the wrong rod on top and 4 degrees off, and not at all.
+  const std::vector<std::string> crossings = {
+      R"([{"location": [50, 40], "angle_deg": 60, "dlos_top_first": [1, 2]}])",
+      R"([{"location": [50, 40], "angle_deg": 64, "dlos_top_first": [2, 1]}])", "[]"};
+  for (int i = 0; i < 3; ++i) {
+    const std::string stem = "00000" + std::to_string(i);
+    add_prediction(pred, "s2", stem, add_synth_scene(root / "data", "s2", stem));
+    write_text(pred / "s2" / "images" / (stem + ".json"),
+               "{" + dlos + ", \"crossings\": " + crossings[i] + "}");
+  }
+  const CrossingListTotals l = summarise(evaluate_ok(root / "data", pred)).all.crossing_list;
+  EXPECT_EQ(l.images, 3);
+  EXPECT_EQ(l.gt, 3);
+  EXPECT_EQ(l.detected, 2);
+  EXPECT_EQ(l.matched, 2);
+  EXPECT_EQ(l.count_equal, 2);
+  EXPECT_EQ(l.top_assessed, 2);
+  EXPECT_EQ(l.top_correct, 1);
+  EXPECT_DOUBLE_EQ(l.angle_error_median, 2.0);  // of 0 and 4
+}
+
+TEST(Evaluation, WithRunTheCrossingListIsTheDetectors) {
+  const fs::path root = fresh_dir();
+  const cv::Mat gt = add_synth_scene(root, "s2", "000000");
+  cv::Mat bgr(gt.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+  bgr.setTo(cv::Scalar(0, 200, 0), gt > 0);  // green: a hue the colour filter takes
+  write_png(root / "s2" / "images" / "000000.png", bgr);
+  Result<Dataset> d = open_dataset(root.string());
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EvalOptions o;
+  o.run = true;
+  Result<Evaluation> e = evaluate(d.value(), o);
+  ASSERT_TRUE(e.ok()) << e.error().message;
+  const ImageResult& r = e.value().images[0];
+  ASSERT_EQ(r.dice.m, 2) << r.prediction_error;
+  ASSERT_TRUE(r.has_crossing_list);
+  EXPECT_EQ(r.crossing_list.detected, 1);
+  // Matched only when DLO index d is read as label d + 1.
+  ASSERT_EQ(r.crossing_list.matches.size(), 1u);
+  EXPECT_LT(r.crossing_list.matches[0].angle_error_deg, 10);
+}
+
+TEST(Evaluation, MissingOrBadCrossingListIsSkippedWithAWarning) {
+  const fs::path root = fresh_dir(), pred = root / "pred";
+  for (const char* stem : {"000000", "000001", "000002"})
+    add_prediction(pred, "s2", stem, add_synth_scene(root / "data", "s2", stem));
+  write_text(pred / "s2" / "images" / "000000.json",
+             R"({"dlos": [], "crossings": [{"location": [1, 2], "angle_deg": 5}]})");
+  write_text(pred / "s2" / "images" / "000001.json", "{\"dlos\": [");
+  // 000002 has no JSON.
+  const Evaluation e = evaluate_ok(root / "data", pred);
+  ASSERT_EQ(e.images.size(), 3u);
+  for (const ImageResult& r : e.images) {
+    EXPECT_FALSE(r.has_crossing_list) << r.item.stem;
+    ASSERT_EQ(r.warnings.size(), 1u) << r.item.stem;
+    EXPECT_NE(r.warnings[0].find(r.item.stem + ".json"), std::string::npos) << r.warnings[0];
+    EXPECT_NE(r.warnings[0].find("detected crossings skipped"), std::string::npos) << r.warnings[0];
+    EXPECT_DOUBLE_EQ(r.dice.strict, 1.0);
+  }
+  EXPECT_TRUE(e.images[0].has_centerlines);
+  EXPECT_NE(e.images[0].warnings[0].find("crossings[0].dlos_top_first"), std::string::npos);
+  EXPECT_NE(e.images[1].warnings[0].find("not valid JSON"), std::string::npos);
+  EXPECT_NE(e.images[2].warnings[0].find("missing"), std::string::npos);
+  EXPECT_EQ(summarise(e).all.crossing_list.images, 0);
 }
 
 TEST(Evaluation, MalformedPredictionJsonSkipsCenterlinesWithAWarning) {
   const fs::path root = fresh_dir(), pred = root / "pred";
   const cv::Mat gt = add_synth_scene(root / "data", "s2", "000000");
   add_prediction(pred, "s2", "000000", gt);
-  write_text(pred / "s2" / "images" / "000000.json", "{\"dlos\": 3}");
+  write_text(pred / "s2" / "images" / "000000.json", "{\"dlos\": 3, \"crossings\": []}");
   Result<Dataset> d = open_dataset((root / "data").string());
   EvalOptions o;
   o.pred_dir = pred.string();
@@ -237,6 +326,7 @@ TEST(Evaluation, MalformedPredictionJsonSkipsCenterlinesWithAWarning) {
   EXPECT_FALSE(e.value().images[0].has_centerlines);
   ASSERT_EQ(e.value().images[0].warnings.size(), 1u);
   EXPECT_NE(e.value().images[0].warnings[0].find("000000.json"), std::string::npos);
+  EXPECT_TRUE(e.value().images[0].has_crossing_list);  // the crossings are read all the same
   EXPECT_DOUBLE_EQ(e.value().images[0].dice.strict, 1.0);
 }
 

@@ -120,6 +120,11 @@ TEST(Report, SyntheticReportHasCrossingTablesAndBins) {
   const fs::path root = fresh_dir();
   const cv::Mat gt = add_synth_scene(root / "data", "s2", "000000");
   add_prediction(root / "pred", "s2", "000000", gt);
+  // The detector's list: the crossing, rod 1 (label 1) on top, 2.5 degrees off, and a
+  // spurious one.
+  write_text(root / "pred" / "s2" / "images" / "000000.json", R"({"dlos": [], "crossings": [
+      {"location": [50, 41], "angle_deg": 62.5, "dlos_top_first": [1, 2]},
+      {"location": [90, 40], "angle_deg": 30, "dlos_top_first": [1, 2]}]})");
   Result<Dataset> d = open_dataset((root / "data").string());
   EvalOptions o;
   o.pred_dir = (root / "pred").string();
@@ -139,6 +144,42 @@ TEST(Report, SyntheticReportHasCrossingTablesAndBins) {
   EXPECT_EQ(j["images"][0]["crossings"][0]["pairing_correct"], true);
   const std::string t = tier_table(e.value(), s);
   EXPECT_NE(t.find("pairing %"), std::string::npos) << t;
+
+  // The detector's crossing list, labelled as a figure beyond metrics.md.
+  EXPECT_NE(md.find("## Detected crossings per tier"), std::string::npos) << md;
+  EXPECT_NE(md.find("| s2 | 1 | 1 | 2 | 1 | 100.00 | 50.00 | 0 | 0.00 | 100.00 | 1 | 2.50 |"),
+            std::string::npos)
+      << md;
+  const std::string definitions = md.substr(md.find("## Definitions"));
+  EXPECT_NE(definitions.find("Detected crossings, a figure beyond ../shared/docs/metrics.md"),
+            std::string::npos)
+      << definitions;
+  const nlohmann::json& tier = j["tiers"][0]["detected_crossings"];
+  EXPECT_EQ(tier["gt"], 1);
+  EXPECT_EQ(tier["detected"], 2);
+  EXPECT_EQ(tier["matched"], 1);
+  EXPECT_DOUBLE_EQ(tier["recall_pct"].get<double>(), 100.0);
+  EXPECT_DOUBLE_EQ(tier["precision_pct"].get<double>(), 50.0);
+  EXPECT_EQ(tier["count_equal"], 0);
+  EXPECT_DOUBLE_EQ(tier["top_correct_pct"].get<double>(), 100.0);
+  EXPECT_DOUBLE_EQ(tier["angle_error_median_deg"].get<double>(), 2.5);
+  const nlohmann::json& image = j["images"][0]["detected_crossings"];
+  EXPECT_EQ(image["count_equal"], false);
+  ASSERT_EQ(image["matches"].size(), 1u);
+  EXPECT_EQ(image["matches"][0]["detected"], 0);
+  EXPECT_EQ(image["matches"][0]["top_correct"], true);
+  const std::string html = report_html(e.value(), s, {});
+  EXPECT_NE(html.find("<h2>Detected crossings per tier</h2>"), std::string::npos);
+  EXPECT_NE(html.find("<td>s2</td><td class=num>1</td><td class=num>1</td><td class=num>2</td>"
+                      "<td class=num>1</td><td class=num>100.00</td><td class=num>50.00</td>"),
+            std::string::npos);
+}
+
+TEST(Report, RealDataHasNoDetectedCrossings) {
+  const Evaluation e = small_evaluation(fresh_dir(), 0);
+  const Summary s = summarise(e);
+  EXPECT_EQ(report_markdown(e, s, {}).find("Detected crossings"), std::string::npos);
+  EXPECT_FALSE(nlohmann::json::parse(report_json(e, s, {}))["all"].contains("detected_crossings"));
 }
 
 }  // namespace

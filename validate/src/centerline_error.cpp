@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
-#include <fstream>
 #include <limits>
 
-#include <nlohmann/json.hpp>
+#include "prediction_json.h"
 
 namespace mbest::validate {
 
@@ -128,32 +127,9 @@ DistanceSummary summarise(std::vector<double> distances) {
 }
 
 Result<std::vector<Polyline>> read_predicted_centerlines(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return Error{path + ": cannot open"};
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    return Error{path + ": not valid JSON (" + e.what() + ")"};
-  }
-  if (!j.is_object() || !j.contains("dlos") || !j["dlos"].is_array())
-    return Error{path + ": field \"dlos\" missing or not an array"};
-  std::vector<Polyline> out;
-  for (size_t i = 0; i < j["dlos"].size(); ++i) {
-    const nlohmann::json& dlo = j["dlos"][i];
-    const std::string field = path + ": dlos[" + std::to_string(i) + "]";
-    if (!dlo.is_object() || !dlo.contains("centerline") || !dlo["centerline"].is_array())
-      return Error{field + ".centerline missing or not an array"};
-    Polyline line;
-    for (const nlohmann::json& p : dlo["centerline"]) {
-      if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
-        return Error{field + ".centerline: a point is not [x, y]"};
-      line.points.emplace_back(p[0].get<double>(), p[1].get<double>());
-    }
-    if (dlo.contains("closed") && dlo["closed"].is_boolean()) line.closed = dlo["closed"];
-    out.push_back(std::move(line));
-  }
-  return out;
+  Result<nlohmann::json> j = read_json_file(path);
+  if (!j) return j.error();
+  return centerlines_from_json(j.value(), path);
 }
 
 }  // namespace mbest::validate

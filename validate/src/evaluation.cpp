@@ -11,23 +11,28 @@
 
 #include "mbest/core/detector.h"
 #include "mbest/core/segmentation.h"
+#include "prediction_json.h"
 
 namespace mbest::validate {
 
 namespace {
 
-// A prediction: its labels (empty when missing) and, when known, its centerlines.
+// A prediction: its labels (empty when missing) and, when known, its centerlines and its
+// crossing list.
 struct Prediction {
   cv::Mat labels;
   std::string source;
   std::string error;
   bool has_centerlines = false;
   std::vector<Polyline> centerlines;
-  std::string centerline_warning;
+  bool has_crossings = false;
+  std::vector<DetectedCrossing> crossings;
+  std::vector<std::string> warnings;
   double detect_ms = -1;
 };
 
-Prediction read_prediction(const DatasetItem& item, const std::string& pred_dir, bool want_centerlines) {
+// `want_json`: read the centerlines and crossings of the prediction's JSON too.
+Prediction read_prediction(const DatasetItem& item, const std::string& pred_dir, bool want_json) {
   const PredictionPaths paths = prediction_paths(item, pred_dir);
   Prediction p;
   p.source = paths.labels;
@@ -41,14 +46,30 @@ Prediction read_prediction(const DatasetItem& item, const std::string& pred_dir,
     return p;
   }
   p.labels = std::move(labels).value();
-  if (want_centerlines && std::filesystem::exists(paths.json)) {
-    Result<std::vector<Polyline>> lines = read_predicted_centerlines(paths.json);
-    if (lines) {
-      p.has_centerlines = true;
-      p.centerlines = std::move(lines).value();
-    } else {
-      p.centerline_warning = lines.error().message + " (centerline error skipped)";
-    }
+  if (!want_json) return p;
+  const std::string both_skipped = " (centerline error and detected crossings skipped)";
+  if (!std::filesystem::exists(paths.json)) {
+    p.warnings.push_back(paths.json + ": missing" + both_skipped);
+    return p;
+  }
+  Result<nlohmann::json> json = read_json_file(paths.json);
+  if (!json) {
+    p.warnings.push_back(json.error().message + both_skipped);
+    return p;
+  }
+  Result<std::vector<Polyline>> lines = centerlines_from_json(json.value(), paths.json);
+  if (lines) {
+    p.has_centerlines = true;
+    p.centerlines = std::move(lines).value();
+  } else {
+    p.warnings.push_back(lines.error().message + " (centerline error skipped)");
+  }
+  Result<std::vector<DetectedCrossing>> crossings = crossings_from_json(json.value(), paths.json);
+  if (crossings) {
+    p.has_crossings = true;
+    p.crossings = std::move(crossings).value();
+  } else {
+    p.warnings.push_back(crossings.error().message + " (detected crossings skipped)");
   }
   return p;
 }
@@ -83,6 +104,18 @@ Result<Prediction> run_detector(const DatasetItem& item) {
     for (const cv::Point& q : dlo.centerline) line.points.emplace_back(q.x, q.y);
     p.centerlines.push_back(std::move(line));
   }
+  p.has_crossings = true;
+  for (const Crossing& c : detection.value().crossings) {
+    if (c.dlos.size() != 2) {
+      p.has_crossings = false;
+      p.crossings.clear();
+      p.warnings.push_back(item.image + ": the detector listed a crossing of " +
+                           std::to_string(c.dlos.size()) + " DLOs (detected crossings skipped)");
+      break;
+    }
+    // DLO index d is label d + 1, as in the label image and `mbest detect`'s JSON.
+    p.crossings.push_back(DetectedCrossing{c.location, c.angle_deg, c.dlos[0] + 1, c.dlos[1] + 1});
+  }
   return p;
 }
 
@@ -111,12 +144,12 @@ Result<ImageResult> evaluate_item(const DatasetItem& item, const EvalOptions& op
   }
   ImageResult r = score_image(item, gt.value(), scene ? &*scene : nullptr, pred.labels,
                               pred.has_centerlines ? &pred.centerlines : nullptr,
-                              options.crossing);
+                              pred.has_crossings ? &pred.crossings : nullptr, options.crossing);
   r.prediction = pred.source;
   if (!pred.error.empty()) r.prediction_error = pred.error;
   r.detect_ms = pred.detect_ms;
   r.kept_prediction = pred.labels;
-  if (!pred.centerline_warning.empty()) r.warnings.push_back(pred.centerline_warning);
+  r.warnings = std::move(pred.warnings);
   return r;
 }
 
@@ -140,6 +173,7 @@ Result<cv::Mat> read_label_image(const std::string& path) {
 ImageResult score_image(const DatasetItem& item, const cv::Mat& gt_labels,
                         const synth::SceneAnnotation* scene, const cv::Mat& pred_labels,
                         const std::vector<Polyline>* pred_centerlines,
+                        const std::vector<DetectedCrossing>* pred_crossings,
                         const CrossingOptions& options) {
   ImageResult r;
   r.item = item;
@@ -174,6 +208,10 @@ ImageResult score_image(const DatasetItem& item, const cv::Mat& gt_labels,
   if (pred_centerlines && r.prediction_error.empty()) {
     r.has_centerlines = true;
     r.centerline = centerline_distances(*scene, *pred_centerlines, r.dice);
+  }
+  if (pred_crossings && r.prediction_error.empty()) {
+    r.has_crossing_list = true;
+    r.crossing_list = match_crossing_list(*scene, r.dice, *pred_crossings);
   }
   return r;
 }

@@ -74,16 +74,30 @@ Row crossing_row(const TierSummary& t) {
           t.has_centerlines ? distance(t.pred_to_gt) : "-",
           t.has_centerlines ? distance(t.gt_to_pred) : "-"};
 }
-std::vector<Row> dice_rows(const Summary& s) {
-  std::vector<Row> rows;
-  for (const TierSummary& t : s.tiers) rows.push_back(dice_row(t));
-  if (s.tiers.size() > 1) rows.push_back(dice_row(s.all));
-  return rows;
+Row crossing_list_header() {
+  return {"tier", "images", "GT crossings", "detected", "matched", "recall %", "precision %",
+          "count = GT", "count = GT %", "top correct %", "(assessed)", "median angle error deg"};
 }
-std::vector<Row> crossing_rows(const Summary& s) {
+Row crossing_list_row(const TierSummary& t) {
+  const CrossingListTotals& l = t.crossing_list;
+  return {t.tier,
+          std::to_string(l.images),
+          std::to_string(l.gt),
+          std::to_string(l.detected),
+          std::to_string(l.matched),
+          rate(l.matched, l.gt),
+          rate(l.matched, l.detected),
+          std::to_string(l.count_equal),
+          rate(l.count_equal, l.images),
+          rate(l.top_correct, l.top_assessed),
+          std::to_string(l.top_assessed),
+          l.angle_error_median < 0 ? "-" : fixed(l.angle_error_median, 2)};
+}
+// One row per tier, then one for all tiers when there are several.
+std::vector<Row> tier_rows(const Summary& s, Row (*row)(const TierSummary&)) {
   std::vector<Row> rows;
-  for (const TierSummary& t : s.tiers) rows.push_back(crossing_row(t));
-  if (s.tiers.size() > 1) rows.push_back(crossing_row(s.all));
+  for (const TierSummary& t : s.tiers) rows.push_back(row(t));
+  if (s.tiers.size() > 1) rows.push_back(row(s.all));
   return rows;
 }
 // Pairing per tier and angle bin: "rate (assessed)" cells, "-" where none was assessed.
@@ -98,12 +112,6 @@ Row tier_angle_row(const TierSummary& t) {
     r.push_back(b.assessed ? rate(b.correct, b.assessed) + " (" + std::to_string(b.assessed) + ")"
                            : "-");
   return r;
-}
-std::vector<Row> tier_angle_rows(const Summary& s) {
-  std::vector<Row> rows;
-  for (const TierSummary& t : s.tiers) rows.push_back(tier_angle_row(t));
-  if (s.tiers.size() > 1) rows.push_back(tier_angle_row(s.all));
-  return rows;
 }
 Row bin_header(const std::string& figure) {
   return {figure, "pairing %", "(assessed)", "order %", "(assessed)"};
@@ -206,6 +214,11 @@ std::string html_table(const Row& header, const std::vector<Row>& rows) {
   return out.str();
 }
 
+// Under the heading of the detected-crossings table, in report.md and report.html.
+constexpr char kCrossingListNote[] =
+    "The detector's own crossing list matched to the ground truth's crossings, a figure beyond "
+    "../shared/docs/metrics.md (see Definitions).";
+
 std::string definitions(const Evaluation& e) {
   std::ostringstream out;
   out << "Matched DICE as ../shared/docs/metrics.md defines it: D = 2|G∩P| / (|G|+|P|), GT "
@@ -225,7 +238,17 @@ std::string definitions(const Evaluation& e) {
            "3.14-6.28, 6.28-9.42, 9.42-12.57, 12.57+. Angle bins 0-10, 10-20, 20-45, 45-90 "
            "degrees. "
            "Centerline error: pixel distance from each predicted centerline point to the matched "
-           "rod's ground-truth centerline and back, pooled per tier; p95 interpolated.";
+           "rod's ground-truth centerline and back, pooled per tier; p95 interpolated. "
+           "Detected crossings, a figure beyond ../shared/docs/metrics.md: the crossing list of "
+           "the detector's JSON (with --run, of its result) matched one-to-one to the "
+           "ground-truth crossings, greedily by ascending distance; a listed crossing matches a "
+           "ground-truth one when its two labels are the ones matched DICE gave the crossing's "
+           "two rods (that rod's label twice for a self-crossing) and it lies within 2 widths "
+           "of the wider rod, at least 10 px. Recall = matched / GT crossings, precision = "
+           "matched / detected; count = GT: images listing as many crossings as the ground "
+           "truth; top correct: the listed top label is the one matched to the top rod (matched "
+           "crossings of two rods); angle error: |listed - GT| crossing angle, median over the "
+           "matches. Images without a readable prediction JSON are left out.";
   return out.str();
 }
 
@@ -254,6 +277,25 @@ json tier_json(const TierSummary& t) {
     j["centerline_px"] = {
         {"pred_to_gt", {{"mean", t.pred_to_gt.mean}, {"p95", t.pred_to_gt.p95}, {"points", t.pred_to_gt.count}}},
         {"gt_to_pred", {{"mean", t.gt_to_pred.mean}, {"p95", t.gt_to_pred.p95}, {"points", t.gt_to_pred.count}}}};
+  if (t.crossing_list.images > 0) {
+    const CrossingListTotals& l = t.crossing_list;
+    const auto pct = [](int part, int whole) {
+      return whole ? json(100.0 * part / whole) : json();
+    };
+    j["detected_crossings"] = {
+        {"images", l.images},
+        {"gt", l.gt},
+        {"detected", l.detected},
+        {"matched", l.matched},
+        {"recall_pct", pct(l.matched, l.gt)},
+        {"precision_pct", pct(l.matched, l.detected)},
+        {"count_equal", l.count_equal},
+        {"count_equal_pct", pct(l.count_equal, l.images)},
+        {"top_assessed", l.top_assessed},
+        {"top_correct", l.top_correct},
+        {"top_correct_pct", pct(l.top_correct, l.top_assessed)},
+        {"angle_error_median_deg", l.angle_error_median < 0 ? json() : json(l.angle_error_median)}};
+  }
   if (t.detect_ms_median >= 0) j["detect_ms_median"] = t.detect_ms_median;
   return j;
 }
@@ -313,6 +355,18 @@ json image_json(const ImageResult& r) {
                            {"order_assessed", c.order_assessed},
                            {"order_correct", c.order_correct}, {"note", c.note}});
     j["crossings"] = crossings;
+  }
+  if (r.has_crossing_list) {
+    json matches = json::array();
+    for (const CrossingListMatch& m : r.crossing_list.matches)
+      matches.push_back({{"detected", m.detected}, {"gt", m.gt}, {"distance_px", m.distance_px},
+                         {"angle_error_deg", m.angle_error_deg}, {"top_assessed", m.top_assessed},
+                         {"top_correct", m.top_correct}});
+    j["detected_crossings"] = {{"gt", r.crossing_list.gt},
+                               {"detected", r.crossing_list.detected},
+                               {"matched", r.crossing_list.matches.size()},
+                               {"count_equal", r.crossing_list.count_equal()},
+                               {"matches", matches}};
   }
   if (r.has_centerlines) {
     const DistanceSummary p2g = summarise(r.centerline.pred_to_gt);
@@ -405,8 +459,8 @@ std::vector<std::string> labels_of(const std::vector<B>& bins) {
 }  // namespace
 
 std::string tier_table(const Evaluation& e, const Summary& s) {
-  std::string out = text_table(dice_header(), dice_rows(s));
-  if (synthetic(e)) out += "\n" + text_table(crossing_header(), crossing_rows(s));
+  std::string out = text_table(dice_header(), tier_rows(s, dice_row));
+  if (synthetic(e)) out += "\n" + text_table(crossing_header(), tier_rows(s, crossing_row));
   if (s.all.missing_predictions > 0)
     out += "\n" + std::to_string(s.all.missing_predictions) +
            " image(s) had no usable prediction and scored 0 (see report.json).\n";
@@ -448,14 +502,17 @@ std::string report_markdown(const Evaluation& e, const Summary& s, const ReportI
       << "- command: `" << info.command << "`\n"
       << "- evaluated in " << fixed(e.seconds, 2) << " s\n\n"
       << "## Matched DICE per tier\n\n"
-      << markdown_table(dice_header(), dice_rows(s)) << "\n";
+      << markdown_table(dice_header(), tier_rows(s, dice_row)) << "\n";
   if (synthetic(e)) {
     out << "## Crossing resolution and centerline error per tier\n\n"
-        << markdown_table(crossing_header(), crossing_rows(s)) << "\n"
+        << markdown_table(crossing_header(), tier_rows(s, crossing_row)) << "\n"
+        << "## Detected crossings per tier\n\n"
+        << kCrossingListNote << "\n\n"
+        << markdown_table(crossing_list_header(), tier_rows(s, crossing_list_row)) << "\n"
         << "## Crossings by angle (degrees)\n\n"
         << markdown_table(bin_header("angle"), bin_rows(s.pairing_by_angle, s.order_by_angle))
         << "\n## Pairing % by tier and angle (degrees), crossings assessed in brackets\n\n"
-        << markdown_table(tier_angle_header(), tier_angle_rows(s))
+        << markdown_table(tier_angle_header(), tier_rows(s, tier_angle_row))
         << "\n## Crossings by curvature complexity (total_turning_rad)\n\n"
         << markdown_table(bin_header("complexity"),
                           bin_rows(s.pairing_by_complexity, s.order_by_complexity))
@@ -491,10 +548,12 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
       << " images)</li>\n<li>predictions: " << html_escape(prediction_source(e)) << "</li>\n"
       << "<li>command: <code>" << html_escape(info.command) << "</code></li>\n"
       << "<li>evaluated in " << fixed(e.seconds, 2) << " s</li>\n</ul>\n"
-      << "<h2>Matched DICE per tier</h2>\n" << html_table(dice_header(), dice_rows(s));
+      << "<h2>Matched DICE per tier</h2>\n" << html_table(dice_header(), tier_rows(s, dice_row));
   if (synthetic(e))
     out << "<h2>Crossing resolution and centerline error per tier</h2>\n"
-        << html_table(crossing_header(), crossing_rows(s));
+        << html_table(crossing_header(), tier_rows(s, crossing_row))
+        << "<h2>Detected crossings per tier</h2>\n<p>" << html_escape(kCrossingListNote) << "</p>\n"
+        << html_table(crossing_list_header(), tier_rows(s, crossing_list_row));
 
   out << "<h2>Charts</h2>\n<div class=charts>\n"
       << chart_img(bar_chart_png("Strict matched DICE by number of rods", "rods in the image",
@@ -520,7 +579,7 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
     out << "<h3>Crossings by angle</h3>\n"
         << html_table(bin_header("angle (degrees)"), bin_rows(s.pairing_by_angle, s.order_by_angle))
         << "<h3>Pairing % by tier and angle (degrees), crossings assessed in brackets</h3>\n"
-        << html_table(tier_angle_header(), tier_angle_rows(s))
+        << html_table(tier_angle_header(), tier_rows(s, tier_angle_row))
         << "<h3>Crossings by curvature complexity</h3>\n"
         << html_table(bin_header("total_turning_rad"),
                       bin_rows(s.pairing_by_complexity, s.order_by_complexity));

@@ -5,6 +5,8 @@
 #include <limits>
 #include <map>
 
+#include "mbest/core/median.h"
+
 namespace mbest::validate {
 
 namespace {
@@ -30,7 +32,7 @@ TierSummary summarise_images(const std::string& tier, const std::vector<const Im
   t.tier = tier;
   t.pairing_by_angle = rate_bins(angle_bins());
   t.images = static_cast<int>(images.size());
-  std::vector<double> strict, lenient, detect_ms, p2g, g2p;
+  std::vector<double> strict, lenient, detect_ms, p2g, g2p, angle_errors;
   for (const ImageResult* r : images) {
     strict.push_back(r->dice.strict);
     lenient.push_back(r->dice.lenient);
@@ -52,17 +54,27 @@ TierSummary summarise_images(const std::string& tier, const std::vector<const Im
       p2g.insert(p2g.end(), r->centerline.pred_to_gt.begin(), r->centerline.pred_to_gt.end());
       g2p.insert(g2p.end(), r->centerline.gt_to_pred.begin(), r->centerline.gt_to_pred.end());
     }
+    if (r->has_crossing_list) {
+      CrossingListTotals& l = t.crossing_list;
+      ++l.images;
+      l.gt += r->crossing_list.gt;
+      l.detected += r->crossing_list.detected;
+      l.matched += static_cast<int>(r->crossing_list.matches.size());
+      l.count_equal += r->crossing_list.count_equal();
+      for (const CrossingListMatch& m : r->crossing_list.matches) {
+        l.top_assessed += m.top_assessed;
+        l.top_correct += m.top_correct;
+        angle_errors.push_back(m.angle_error_deg);
+      }
+    }
     if (r->detect_ms >= 0) detect_ms.push_back(r->detect_ms);
   }
   mean_std_percent(strict, &t.strict_mean, &t.strict_std);
   mean_std_percent(lenient, &t.lenient_mean, &t.lenient_std);
   t.pred_to_gt = summarise(std::move(p2g));
   t.gt_to_pred = summarise(std::move(g2p));
-  if (!detect_ms.empty()) {
-    std::sort(detect_ms.begin(), detect_ms.end());
-    const size_t k = detect_ms.size();
-    t.detect_ms_median = k % 2 ? detect_ms[k / 2] : (detect_ms[k / 2 - 1] + detect_ms[k / 2]) / 2;
-  }
+  if (!detect_ms.empty()) t.detect_ms_median = median(std::move(detect_ms));
+  if (!angle_errors.empty()) t.crossing_list.angle_error_median = median(std::move(angle_errors));
   return t;
 }
 

@@ -11,6 +11,7 @@
 #include "mbest/core/result.h"
 #include "mbest/synth/annotation.h"
 #include "mbest/validate/centerline_error.h"
+#include "mbest/validate/crossing_list.h"
 #include "mbest/validate/crossing_resolution.h"
 #include "mbest/validate/dataset.h"
 #include "mbest/validate/dice.h"
@@ -44,10 +45,15 @@ struct ImageResult {
   std::vector<CrossingResolution> crossings;  // synthetic scenes only
   bool has_centerlines = false;  // predicted centerlines and a synthetic ground truth
   CenterlineDistances centerline;
+  // The detector's crossing list (its JSON, or with --run the Detection) against the ground
+  // truth's: a figure beyond metrics.md, with a usable prediction on a synthetic scene only.
+  bool has_crossing_list = false;
+  CrossingListScore crossing_list;
   double detect_ms = -1;              // with --run: the detector's total time
   // The predicted labels, kept only for the EvalOptions::keep_worst lowest strict scores.
   cv::Mat kept_prediction;
-  std::vector<std::string> warnings;  // e.g. an unreadable prediction JSON (metric skipped)
+  // E.g. a missing or unreadable prediction JSON on a synthetic scene (metrics skipped).
+  std::vector<std::string> warnings;
 };
 
 struct Evaluation {
@@ -58,11 +64,12 @@ struct Evaluation {
 };
 
 // Scores one image against a prediction already in memory: pred_labels (CV_16UC1 or
-// CV_8UC1, empty = missing) and, optionally, its centerlines. `scene` is null for a data set
-// without annotations.
+// CV_8UC1, empty = missing) and, optionally (null when unknown), its centerlines and its
+// crossing list. `scene` is null for a data set without annotations.
 ImageResult score_image(const DatasetItem& item, const cv::Mat& gt_labels,
                         const synth::SceneAnnotation* scene, const cv::Mat& pred_labels,
                         const std::vector<Polyline>* pred_centerlines,
+                        const std::vector<DetectedCrossing>* pred_crossings,
                         const CrossingOptions& options);
 
 // Reads a label image (1-channel, 8- or 16-bit). Errors name the file.

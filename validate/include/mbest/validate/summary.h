@@ -29,6 +29,16 @@ struct RateBin {
   int assessed = 0, correct = 0;
 };
 
+// The detector's crossing lists against the ground truth (crossing_list.h), summed over the
+// images whose list was read. Beyond metrics.md.
+struct CrossingListTotals {
+  int images = 0;
+  int gt = 0, detected = 0, matched = 0;  // recall = matched / gt, precision = matched / detected
+  int count_equal = 0;                    // images listing as many crossings as the ground truth
+  int top_assessed = 0, top_correct = 0;  // matched crossings of two different rods
+  double angle_error_median = -1;         // degrees, over the matches; -1 without any
+};
+
 struct TierSummary {
   std::string tier;  // "all" for the whole data set
   int images = 0;
@@ -45,6 +55,7 @@ struct TierSummary {
   std::vector<RateBin> pairing_by_angle;  // angle_bins(); the accuracy goal is per angle
   bool has_centerlines = false;  // some image had predicted centerlines
   DistanceSummary pred_to_gt, gt_to_pred;  // pooled over every point of the tier
+  CrossingListTotals crossing_list;
   double detect_ms_median = -1;            // with --run
 };
 
