@@ -76,9 +76,9 @@ int main(int argc, char** argv) {
   }
 
   nlohmann::json out;
-  std::map<std::string, double> tier_median;
-  std::printf("%-6s %6s %10s %10s %10s   per stage (median ms)\n", "tier", "frames", "median_ms",
-              "p10_ms", "p90_ms");
+  std::map<std::string, double> tier_median, tier_mask_px;
+  std::printf("%-6s %6s %9s %10s %10s %10s   per stage (median ms)\n", "tier", "frames", "mask_px",
+              "median_ms", "p10_ms", "p90_ms");
   for (const auto& [name, frames] : tiers) {
     std::vector<double> totals;
     std::map<std::string, std::vector<double>> stages;
@@ -99,8 +99,12 @@ int main(int argc, char** argv) {
     std::sort(totals.begin(), totals.end());
     const double med = mbest::median(totals);
     tier_median[name] = med;
-    std::printf("%-6s %6zu %10.3f %10.3f %10.3f  ", name.c_str(), frames.size(), med,
-                totals[totals.size() / 10], totals[totals.size() * 9 / 10]);
+    // How much mask there is to work on: the detector's work grows with it.
+    std::vector<double> mask_px;
+    for (const Frame& f : frames) mask_px.push_back(cv::countNonZero(f.mask));
+    tier_mask_px[name] = mbest::median(mask_px);
+    std::printf("%-6s %6zu %9.0f %10.3f %10.3f %10.3f  ", name.c_str(), frames.size(), tier_mask_px[name],
+                med, totals[totals.size() / 10], totals[totals.size() * 9 / 10]);
     nlohmann::json st;
     for (const std::string& s : stage_order) {
       st[s] = mbest::median(stages[s]);
@@ -108,12 +112,14 @@ int main(int argc, char** argv) {
     }
     std::printf("\n");
     out["tiers"][name] = {{"frames", frames.size()}, {"runs", totals.size()}, {"median_ms", med},
-                          {"median_stages_ms", st}};
+                          {"median_mask_px", tier_mask_px[name]}, {"median_stages_ms", st}};
   }
   if (tier_median.count("S1") && tier_median.count("S3") && tier_median["S1"] > 0) {
     const double ratio = tier_median["S3"] / tier_median["S1"];
-    std::printf("S3/S1 median ratio: %.2f\n", ratio);
+    const double mask_ratio = tier_mask_px["S1"] > 0 ? tier_mask_px["S3"] / tier_mask_px["S1"] : 0;
+    std::printf("S3/S1 median ratio: %.2f (median mask pixels: %.2f)\n", ratio, mask_ratio);
     out["s3_over_s1"] = ratio;
+    out["s3_over_s1_mask_px"] = mask_ratio;
   }
   if (!json_out.empty()) std::ofstream(json_out) << out.dump(2) << "\n";
   return 0;
