@@ -180,6 +180,21 @@ std::vector<CrossingPoint> crossings_between(const Passage& a, const Passage& b,
   return out;
 }
 
+// Which of two strands is on top where they cross at `at`, when they cross twice in one
+// region: the one whose path within `reach` px of it has the lower colour spread (as
+// order_crossings judges a whole region). True: `a`.
+bool on_top_near(const Passage& a, const Passage& b, cv::Point2f at, double reach, const cv::Mat& bgr) {
+  const auto near = [&](const Passage& p) {
+    std::vector<cv::Point> out;
+    for (const cv::Point& q : p.path)
+      if (cv::norm(cv::Point2f(q) - at) <= reach) out.push_back(q);
+    return out;
+  };
+  const int half = blur_half_size(std::min({a.from_tangent.radius, a.to_tangent.radius, b.from_tangent.radius,
+                                            b.to_tangent.radius}));
+  return colour_spread(bgr, near(a), half) <= colour_spread(bgr, near(b), half);
+}
+
 // Fills Detection::crossings and Dlo::crossings, and lists the strands to draw on top. A
 // crossing is two strands whose paths through a crossing region meet and cross over
 // (crossings_between): a region where three strands cross (a triple point) holds three, one
@@ -189,7 +204,8 @@ std::vector<CrossingPoint> crossings_between(const Passage& a, const Passage& b,
 std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passage>& passages,
                                         const std::vector<CrossingRegion>& regions,
                                         const Traversal& tr,
-                                        const std::vector<std::vector<int>>& ordered) {
+                                        const std::vector<std::vector<int>>& ordered,
+                                        const cv::Mat& bgr) {
   std::vector<TopStrand> tops;
   std::vector<std::vector<int>> crossings_of(passages.size());
   for (const std::vector<int>& list : ordered) {
@@ -201,12 +217,25 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
     for (size_t i = 0; i < strands.size(); ++i)
       for (size_t j = i + 1; j < strands.size(); ++j) {
         const Passage &top = passages[strands[i]], &under = passages[strands[j]];
+        const int dlo_top = tr.passage_dlo[strands[i]], dlo_under = tr.passage_dlo[strands[j]];
         if (!paths_meet(top.path, under.path)) continue;
-        for (const CrossingPoint& x : crossings_between(top, under, centre)) {
+        const std::vector<CrossingPoint> xs = crossings_between(top, under, centre);
+        // Twice crossed: a pair twisted round each other has each on top once, a pair
+        // lying one on the other has the same one on top twice, so the list judges each
+        // crossing apart. (The labels keep the region's order, which the colour refinement
+        // corrects pixel by pixel.)
+        const bool twice = xs.size() == 2 && !bgr.empty();
+        std::vector<bool> top_first(xs.size(), true);
+        if (twice) {
+          const double reach = std::max(cv::norm(xs[0].at - xs[1].at) / 2,
+                                        2.0 * std::min(top.from_tangent.radius, under.from_tangent.radius));
+          for (size_t k = 0; k < 2; ++k) top_first[k] = on_top_near(top, under, xs[k].at, reach, bgr);
+        }
+        for (size_t k = 0; k < xs.size(); ++k) {
           Crossing c;
-          c.location = x.at;
-          c.angle_deg = x.angle_deg;
-          c.dlos = {tr.passage_dlo[strands[i]], tr.passage_dlo[strands[j]]};
+          c.location = xs[k].at;
+          c.angle_deg = xs[k].angle_deg;
+          c.dlos = top_first[k] ? std::vector<int>{dlo_top, dlo_under} : std::vector<int>{dlo_under, dlo_top};
           for (int p : {strands[i], strands[j]}) crossings_of[p].push_back(static_cast<int>(det.crossings.size()));
           det.crossings.push_back(std::move(c));
         }
@@ -363,7 +392,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return order_crossings(passages, static_cast<int>(regions.size()), bgr);
   });
   det.dlos = std::move(traversal.dlos);
-  auto tops = record_crossings(det, passages, regions, traversal, ordered);
+  auto tops = record_crossings(det, passages, regions, traversal, ordered, bgr);
   det.labels = stage("instance_mask", [&] {
     cv::Mat labels = instance_labels(mask, det.dlos, tops);
     if (!bgr.empty() && config.colour_weight > 0 && config.colour_label_margin > 0)

@@ -353,6 +353,34 @@ TEST(Detector, RodsTwistedOnceRoundEachOtherCrossTwice) {
   EXPECT_NEAR(xs[1], 240, 12);
 }
 
+// The twisted pair of RodsTwistedOnceRoundEachOtherCrossTwice, painted so that the straight
+// rod is on top at x = 160 and under at x = 240 (`alternate`), or on top at both.
+void expect_tops_of_twisted_pair(bool alternate) {
+  std::vector<cv::Point> twisted;
+  for (int x = 10; x <= 390; x += 5) twisted.emplace_back(x, cvRound(95 + 5 * (x - 200.0) * (x - 200.0) / 1600));
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({400, 220}, {{{10, 100}, {390, 100}}, twisted}, 11, &gt);
+  cv::Mat straight_over = gt[0].clone();
+  if (alternate) straight_over(cv::Rect(200, 0, 200, 220)) = 0;
+  const cv::Scalar red(40, 40, 200), blue(200, 90, 30);
+  const cv::Mat bgr = painted({gt[0], gt[1], straight_over}, {red, blue, red});
+  auto r = detect(mask, bgr);
+  ASSERT_TRUE(r.ok());
+  const Detection& d = r.value();
+  ASSERT_EQ(d.crossings.size(), 2u);
+  const int straight = d.labels.at<uint16_t>(100, 20) - 1;  // only the straight rod is there
+  ASSERT_GE(straight, 0);
+  for (const Crossing& c : d.crossings) {
+    const bool straight_on_top = !alternate || c.location.x < 200;
+    EXPECT_EQ(c.dlos[0] == straight, straight_on_top) << "crossing at x = " << c.location.x;
+  }
+}
+
+TEST(Detector, EachCrossingOfATwistedPairHasItsOwnTop) {
+  expect_tops_of_twisted_pair(true);
+  expect_tops_of_twisted_pair(false);
+}
+
 TEST(Detector, RodsLeavingTheImageAndCrossingNearTheBorder) {
   std::vector<cv::Mat> gt;
   const cv::Mat mask = scene({200, 200}, {{{-20, 22}, {220, 22}}, {{24, -20}, {24, 220}}}, 13, &gt);
