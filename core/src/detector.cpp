@@ -180,32 +180,17 @@ std::vector<CrossingPoint> crossings_between(const Passage& a, const Passage& b,
   return out;
 }
 
-// Which of two strands is on top where they cross at `at`, when they cross twice in one
-// region: the one whose path within `reach` px of it has the lower colour spread (as
-// order_crossings judges a whole region). True: `a`.
-bool on_top_near(const Passage& a, const Passage& b, cv::Point2f at, double reach, const cv::Mat& bgr) {
-  const auto near = [&](const Passage& p) {
-    std::vector<cv::Point> out;
-    for (const cv::Point& q : p.path)
-      if (cv::norm(cv::Point2f(q) - at) <= reach) out.push_back(q);
-    return out;
-  };
-  const int half = blur_half_size(std::min({a.from_tangent.radius, a.to_tangent.radius, b.from_tangent.radius,
-                                            b.to_tangent.radius}));
-  return colour_spread(bgr, near(a), half) <= colour_spread(bgr, near(b), half);
-}
-
 // Fills Detection::crossings and Dlo::crossings, and lists the strands to draw on top. A
 // crossing is two strands whose paths through a crossing region meet and cross over
 // (crossings_between): a region where three strands cross (a triple point) holds three, one
 // where two strands touch without crossing holds none, and one where two twist once round
 // each other holds two. So the crossings found do not depend on how nearby junctions were
-// grouped into regions. Within a region the order is the region's (top first).
+// grouped into regions. Within a region the order is the region's (top first), until
+// settle_tops_by_labels reads each crossing's top from the labels.
 std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passage>& passages,
                                         const std::vector<CrossingRegion>& regions,
                                         const Traversal& tr,
-                                        const std::vector<std::vector<int>>& ordered,
-                                        const cv::Mat& bgr) {
+                                        const std::vector<std::vector<int>>& ordered) {
   std::vector<TopStrand> tops;
   std::vector<std::vector<int>> crossings_of(passages.size());
   for (const std::vector<int>& list : ordered) {
@@ -217,25 +202,12 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
     for (size_t i = 0; i < strands.size(); ++i)
       for (size_t j = i + 1; j < strands.size(); ++j) {
         const Passage &top = passages[strands[i]], &under = passages[strands[j]];
-        const int dlo_top = tr.passage_dlo[strands[i]], dlo_under = tr.passage_dlo[strands[j]];
         if (!paths_meet(top.path, under.path)) continue;
-        const std::vector<CrossingPoint> xs = crossings_between(top, under, centre);
-        // Twice crossed: a pair twisted round each other has each on top once, a pair
-        // lying one on the other has the same one on top twice, so the list judges each
-        // crossing apart. (The labels keep the region's order, which the colour refinement
-        // corrects pixel by pixel.)
-        const bool twice = xs.size() == 2 && !bgr.empty();
-        std::vector<bool> top_first(xs.size(), true);
-        if (twice) {
-          const double reach = std::max(cv::norm(xs[0].at - xs[1].at) / 2,
-                                        2.0 * std::min(top.from_tangent.radius, under.from_tangent.radius));
-          for (size_t k = 0; k < 2; ++k) top_first[k] = on_top_near(top, under, xs[k].at, reach, bgr);
-        }
-        for (size_t k = 0; k < xs.size(); ++k) {
+        for (const CrossingPoint& x : crossings_between(top, under, centre)) {
           Crossing c;
-          c.location = xs[k].at;
-          c.angle_deg = xs[k].angle_deg;
-          c.dlos = top_first[k] ? std::vector<int>{dlo_top, dlo_under} : std::vector<int>{dlo_under, dlo_top};
+          c.location = x.at;
+          c.angle_deg = x.angle_deg;
+          c.dlos = {tr.passage_dlo[strands[i]], tr.passage_dlo[strands[j]]};
           for (int p : {strands[i], strands[j]}) crossings_of[p].push_back(static_cast<int>(det.crossings.size()));
           det.crossings.push_back(std::move(c));
         }
@@ -279,6 +251,29 @@ std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<C
     for (int n : regions[r].nodes) z.discs.push_back({cv::Point(g.nodes[n].centre), widest});
   }
   return zones;
+}
+
+// The crossing list says which strand is on top as the labels show it: at each crossing of
+// two DLOs, the one whose label holds more of the disc of radius r / 2 around it goes first.
+// The order a crossing region gives all its strands is a coarser cue: the labels are
+// refined by colour pixel by pixel, and of two strands crossing twice in one region each may
+// be on top once (a twisted pair).
+void settle_tops_by_labels(Detection& det, float r) {
+  const int k = std::max(1, static_cast<int>(std::lround(r / 2)));
+  for (Crossing& c : det.crossings) {
+    if (c.dlos.size() != 2 || c.dlos[0] == c.dlos[1]) continue;
+    const cv::Point at(static_cast<int>(std::lround(c.location.x)), static_cast<int>(std::lround(c.location.y)));
+    int first = 0, second = 0;
+    for (int y = std::max(0, at.y - k); y <= std::min(det.labels.rows - 1, at.y + k); ++y) {
+      const uint16_t* row = det.labels.ptr<uint16_t>(y);
+      for (int x = std::max(0, at.x - k); x <= std::min(det.labels.cols - 1, at.x + k); ++x) {
+        if ((x - at.x) * (x - at.x) + (y - at.y) * (y - at.y) > k * k) continue;
+        first += row[x] == c.dlos[0] + 1;
+        second += row[x] == c.dlos[1] + 1;
+      }
+    }
+    if (second > first) std::swap(c.dlos[0], c.dlos[1]);
+  }
 }
 
 // Every DetectorConfig field with its accepted range: one table for the JSON reader and for
@@ -392,7 +387,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return order_crossings(passages, static_cast<int>(regions.size()), bgr);
   });
   det.dlos = std::move(traversal.dlos);
-  auto tops = record_crossings(det, passages, regions, traversal, ordered, bgr);
+  auto tops = record_crossings(det, passages, regions, traversal, ordered);
   det.labels = stage("instance_mask", [&] {
     cv::Mat labels = instance_labels(mask, det.dlos, tops);
     if (!bgr.empty() && config.colour_weight > 0 && config.colour_label_margin > 0)
@@ -400,6 +395,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
                               config.colour_label_margin, 3 * config.colour_label_margin);
     return labels;
   });
+  settle_tops_by_labels(det, r);
   return det;
 }
 
