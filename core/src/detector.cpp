@@ -258,15 +258,15 @@ std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<C
 // The order a crossing region gives all its strands is a coarser cue: the labels are
 // refined by colour pixel by pixel, and of two strands crossing twice in one region each may
 // be on top once (a twisted pair).
-void settle_tops_by_labels(Detection& det, float r) {
+void settle_tops_by_labels(std::vector<Crossing>& crossings, const cv::Mat& labels, float r) {
   const int k = std::max(1, static_cast<int>(std::lround(r / 2)));
-  for (Crossing& c : det.crossings) {
+  for (Crossing& c : crossings) {
     if (c.dlos.size() != 2 || c.dlos[0] == c.dlos[1]) continue;
     const cv::Point at(static_cast<int>(std::lround(c.location.x)), static_cast<int>(std::lround(c.location.y)));
     int first = 0, second = 0;
-    for (int y = std::max(0, at.y - k); y <= std::min(det.labels.rows - 1, at.y + k); ++y) {
-      const uint16_t* row = det.labels.ptr<uint16_t>(y);
-      for (int x = std::max(0, at.x - k); x <= std::min(det.labels.cols - 1, at.x + k); ++x) {
+    for (int y = std::max(0, at.y - k); y <= std::min(labels.rows - 1, at.y + k); ++y) {
+      const uint16_t* row = labels.ptr<uint16_t>(y);
+      for (int x = std::max(0, at.x - k); x <= std::min(labels.cols - 1, at.x + k); ++x) {
         if ((x - at.x) * (x - at.x) + (y - at.y) * (y - at.y) > k * k) continue;
         first += row[x] == c.dlos[0] + 1;
         second += row[x] == c.dlos[1] + 1;
@@ -393,9 +393,9 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     if (!bgr.empty() && config.colour_weight > 0 && config.colour_label_margin > 0)
       refine_labels_by_colour(labels, mask, bgr, colour_zones(graph, regions, passages, traversal),
                               config.colour_label_margin, 3 * config.colour_label_margin);
+    settle_tops_by_labels(det.crossings, labels, r);
     return labels;
   });
-  settle_tops_by_labels(det, r);
   return det;
 }
 

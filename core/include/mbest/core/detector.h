@@ -14,10 +14,13 @@ namespace mbest {
 
 // One crossing: where two strands pass over each other (their paths through a crossing
 // region meet). Three strands through one point are three crossings, one per pair.
+// Two strands that cross over (once; a pair twisted once round the other inside one
+// crossing region is two crossings). Strands that only touch are none.
 struct Crossing {
-  cv::Point2f location;  // where the two paths come closest, pixels
+  cv::Point2f location;  // where the two paths come closest (or change sides), pixels
   double angle_deg = 0;  // angle between the strands' tangents, in [0, 90]
-  // DLO indices of the two strands, top first. A self-crossing lists the same DLO twice.
+  // DLO indices of the two strands, top first (the one the labels show there). A
+  // self-crossing lists the same DLO twice.
   std::vector<int> dlos;
 };
 
