@@ -100,9 +100,9 @@ bool paths_meet(const std::vector<cv::Point>& a, const std::vector<cv::Point>& b
   return false;
 }
 
-// The index of the pixel of `path` nearest to `at` (the first of equals), and its squared
-// distance.
-size_t nearest_pixel(const std::vector<cv::Point>& path, cv::Point2f at, float* distance_squared) {
+// The index of the pixel of `path` nearest to `at` (the first of equals), and, when asked
+// for, its squared distance.
+size_t nearest_pixel(const std::vector<cv::Point>& path, cv::Point2f at, float* distance_squared = nullptr) {
   size_t k = 0;
   float best = std::numeric_limits<float>::max();
   for (size_t i = 0; i < path.size(); ++i) {
@@ -110,7 +110,7 @@ size_t nearest_pixel(const std::vector<cv::Point>& path, cv::Point2f at, float* 
     const float d2 = d.dot(d);
     if (d2 < best) best = d2, k = i;
   }
-  *distance_squared = best;
+  if (distance_squared) *distance_squared = best;
   return k;
 }
 
@@ -150,8 +150,7 @@ std::vector<cv::Point2f> side_changes(const std::vector<cv::Point>& a, const std
 
 // A path's direction at its pixel nearest to `at`, over a few pixels either side.
 cv::Point2f direction_near(const std::vector<cv::Point>& path, cv::Point2f at) {
-  float d2 = 0;
-  return cv::Point2f(path_direction(path, nearest_pixel(path, at, &d2), 6));
+  return cv::Point2f(path_direction(path, nearest_pixel(path, at), 6));
 }
 
 struct CrossingPoint {
