@@ -325,14 +325,19 @@ TEST(Detector, RodsTouchingWithoutCrossingHaveNoCrossing) {
   EXPECT_TRUE(r.value().crossings.empty()) << r.value().crossings.size() << " crossings";
 }
 
-TEST(Detector, RodsTwistedOnceRoundEachOtherCrossTwice) {
-  // A straight rod, and a parabola running along it that crosses it at x = 160 and at
-  // x = 240, about 14 degrees, 5 px to its far side in between: one crossing region, whose
-  // strands enter and leave on the same sides. Two crossings, not one and not none.
+// A straight rod (gt[0]) along y = 100, and a parabola (gt[1]) running along it that
+// crosses it at x = 160 and at x = 240, about 14 degrees, 5 px to its far side in between:
+// one crossing region, whose strands enter and leave on the same sides.
+cv::Mat twisted_pair(std::vector<cv::Mat>* gt) {
   std::vector<cv::Point> twisted;
   for (int x = 10; x <= 390; x += 5) twisted.emplace_back(x, cvRound(95 + 5 * (x - 200.0) * (x - 200.0) / 1600));
+  return scene({400, 220}, {{{10, 100}, {390, 100}}, twisted}, 11, gt);
+}
+
+TEST(Detector, RodsTwistedOnceRoundEachOtherCrossTwice) {
+  // Two crossings, not one and not none.
   std::vector<cv::Mat> gt;
-  const cv::Mat mask = scene({400, 220}, {{{10, 100}, {390, 100}}, twisted}, 11, &gt);
+  const cv::Mat mask = twisted_pair(&gt);
   const cv::Mat bgr = painted(gt, {cv::Scalar(40, 40, 200), cv::Scalar(200, 90, 30)});
   auto r = detect(mask, bgr);
   ASSERT_TRUE(r.ok());
@@ -353,13 +358,11 @@ TEST(Detector, RodsTwistedOnceRoundEachOtherCrossTwice) {
   EXPECT_NEAR(xs[1], 240, 12);
 }
 
-// The twisted pair of RodsTwistedOnceRoundEachOtherCrossTwice, painted so that the straight
-// rod is on top at x = 160 and under at x = 240 (`alternate`), or on top at both.
+// The twisted pair, painted so that the straight rod is on top at x = 160 and under at
+// x = 240 (`alternate`), or on top at both.
 void expect_tops_of_twisted_pair(bool alternate) {
-  std::vector<cv::Point> twisted;
-  for (int x = 10; x <= 390; x += 5) twisted.emplace_back(x, cvRound(95 + 5 * (x - 200.0) * (x - 200.0) / 1600));
   std::vector<cv::Mat> gt;
-  const cv::Mat mask = scene({400, 220}, {{{10, 100}, {390, 100}}, twisted}, 11, &gt);
+  const cv::Mat mask = twisted_pair(&gt);
   cv::Mat straight_over = gt[0].clone();
   if (alternate) straight_over(cv::Rect(200, 0, 200, 220)) = 0;
   const cv::Scalar red(40, 40, 200), blue(200, 90, 30);
