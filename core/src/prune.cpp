@@ -52,15 +52,30 @@ bool is_stub_past_crossing(const SkeletonGraph& g, int i, int end_side, double r
   return false;
 }
 
+// Is branch `i` a spur: shorter than `delta`, from a junction to an end?
+bool is_spur(const SkeletonGraph& g, int i, double delta) {
+  const Branch& b = g.branches[i];
+  if (!b.alive || b.length >= delta) return false;
+  return (g.nodes[b.node[0]].kind == Node::Kind::end) != (g.nodes[b.node[1]].kind == Node::Kind::end);
+}
+
 // Is the short branch `i` where two DLOs meet rather than a split end? A split end forks
 // off one DLO, so every branch at its junction has that DLO's colour. Where two of them
 // differ (colour_penalty > 0) the short branch is a real end: of a DLO lying on another
 // (the others differ), or of one ending just past a crossing (the branch itself differs;
-// sampled over its outer half, away from the DLO it crosses).
-bool joins_two_colours(const SkeletonGraph& g, int i, int end_side, const ColourSource& colour) {
+// sampled over its outer half, away from the DLO it crosses). Either way a DLO runs on
+// through the junction: two of its other branches are not spurs (shorter than `delta`). A
+// junction with one such branch is a DLO's forked tip, whose prongs sample the tip's dark,
+// shaded edge: their colour tells nothing.
+bool joins_two_colours(const SkeletonGraph& g, int i, int end_side, double delta,
+                       const ColourSource& colour) {
   if (colour.bgr.empty()) return false;
   const Branch& spur = g.branches[i];
   const Node& junction = g.nodes[spur.node[1 - end_side]];
+  int through = 0;
+  for (const BranchEnd& e : junction.branch_ends)
+    through += e.branch != i && g.branches[e.branch].alive && !is_spur(g, e.branch, delta);
+  if (through < 2) return false;
   std::vector<BranchTangent> sampled;
   const BranchEnd tip{i, end_side};
   sampled.push_back(fit_branch_tangent(g, tip, 0, 3 * colour.radius, false));
@@ -89,12 +104,8 @@ bool joins_two_colours(const SkeletonGraph& g, int i, int end_side, const Colour
 
 int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image, const ColourSource& colour) {
   std::vector<int> spurs;
-  for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
-    const Branch& b = g.branches[i];
-    if (!b.alive || b.length >= delta) continue;
-    const Node::Kind k0 = g.nodes[b.node[0]].kind, k1 = g.nodes[b.node[1]].kind;
-    if ((k0 == Node::Kind::end) != (k1 == Node::Kind::end)) spurs.push_back(i);
-  }
+  for (int i = 0; i < static_cast<int>(g.branches.size()); ++i)
+    if (is_spur(g, i, delta)) spurs.push_back(i);
   std::stable_sort(spurs.begin(), spurs.end(),
                    [&](int a, int b) { return g.branches[a].length < g.branches[b].length; });
 
@@ -103,7 +114,7 @@ int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image, const Colou
     Branch& b = g.branches[i];
     const int end_side = g.nodes[b.node[0]].kind == Node::Kind::end ? 0 : 1;
     if (leaves_image(g, b, end_side, image) || is_stub_past_crossing(g, i, end_side, delta) ||
-        joins_two_colours(g, i, end_side, colour))
+        joins_two_colours(g, i, end_side, delta, colour))
       continue;
     Node& junction = g.nodes[b.node[1 - end_side]];
     if (junction.degree() < 3) continue;  // would cut a line in two

@@ -49,6 +49,35 @@ TEST(Prune, ForkedEndKeepsItsLongerSpur) {
   EXPECT_EQ(ends, 2);
 }
 
+TEST(Prune, ForkedTipWhoseProngsShowTheShadedEdgeKeepsOneProng) {
+  // A red rod with a notched square tip, dark with shading as a lit tube's end is: the
+  // skeleton forks into two short prongs that run into the dark corners, so their colour
+  // differs from the rod's. That is no second DLO (only the trunk runs on through the
+  // fork), so one prong goes, as it does without colour.
+  cv::Mat mask = cv::Mat::zeros(100, 300, CV_8UC1), bgr = cv::Mat::zeros(100, 300, CV_8UC3);
+  cv::rectangle(mask, {30, 42}, {280, 58}, 255, -1);
+  const std::vector<cv::Point> notch = {{30, 46}, {30, 54}, {34, 50}};
+  cv::fillConvexPoly(mask, notch, 0);
+  bgr.setTo(cv::Scalar(40, 40, 200), mask);
+  cv::Mat tip = cv::Mat::zeros(mask.size(), CV_8UC1);
+  cv::rectangle(tip, {30, 38}, {40, 62}, 255, -1);
+  bgr.setTo(cv::Scalar(25, 20, 70), tip & mask);
+  Skeleton s = skeletonize(mask);
+  SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
+  const float r = measure_radii(g, mask);
+  const auto ends = [](const SkeletonGraph& graph) {
+    int n = 0;
+    for (const Node& node : graph.nodes) n += node.kind == Node::Kind::end && node.alive;
+    return n;
+  };
+  ASSERT_EQ(ends(g), 3) << "the notch should fork the tip into two prongs";
+  SkeletonGraph plain = g;
+  prune_split_ends(plain, 2 * r, mask.size());
+  ASSERT_EQ(ends(plain), 2) << "without colour one prong should go";
+  prune_split_ends(g, 2 * r, mask.size(), ColourSource{bgr, r});
+  EXPECT_EQ(ends(g), 2);
+}
+
 }  // namespace
 }  // namespace mbest
 
