@@ -198,16 +198,22 @@ void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat
       std::fill(nearest.begin(), nearest.end(), std::numeric_limits<float>::infinity());
       for (size_t j = 0; j < owner.size(); ++j)
         nearest[owner[j]] = std::min(nearest[owner[j]], colour_distance_squared(c, z.colours[j].second));
-      // Squared distances until the two nearest DLOs are known.
+      // Squared distances until the nearest DLO and the one to beat are known.
       size_t best = 0;
       for (size_t i = 1; i < nearest.size(); ++i)
         if (nearest[i] < nearest[best]) best = i;
-      float second = std::numeric_limits<float>::infinity();
-      for (size_t i = 0; i < nearest.size(); ++i)
-        if (i != best) second = std::min(second, nearest[i]);
-      const double d_best = std::sqrt(nearest[best]), d_second = std::sqrt(second);
-      if (d_best <= max_distance && d_second - d_best >= margin)
-        labels.at<uint16_t>(at[k]) = static_cast<uint16_t>(dlos[best] + 1);
+      uint16_t& label = labels.at<uint16_t>(at[k]);
+      const auto current = std::lower_bound(dlos.begin(), dlos.end(), static_cast<int>(label) - 1);
+      float rival = std::numeric_limits<float>::infinity();
+      if (label > 0 && current != dlos.end() && *current == label - 1) {
+        rival = nearest[static_cast<size_t>(current - dlos.begin())];
+      } else {
+        for (size_t i = 0; i < nearest.size(); ++i)
+          if (i != best) rival = std::min(rival, nearest[i]);
+      }
+      const double d_best = std::sqrt(nearest[best]);
+      if (d_best <= max_distance && std::sqrt(rival) - d_best >= margin)
+        label = static_cast<uint16_t>(dlos[best] + 1);
     }
   }
 }

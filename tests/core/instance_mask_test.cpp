@@ -92,6 +92,23 @@ TEST(InstanceMask, ColourDecidesWhichDloAPixelInACrossingZoneShows) {
   EXPECT_EQ(b.labels.at<uint16_t>(5, 20), 0) << "background stays background";
 }
 
+TEST(InstanceMask, ColourBeatsTheDrawnLabelEvenBesideANearColour) {
+  // A third DLO in the zone is a lighter blue, within the margin of the blue one. Blue
+  // pixels drawn as the red DLO still go to the blue one: it is the drawn label that the
+  // pixel's colour has to beat. Between the two blues the colour is no evidence, so a blue
+  // pixel drawn as the lighter blue keeps its label.
+  Band b;
+  ColourZone z;
+  for (int x = 10; x < 50; x += 2) z.discs.push_back({cv::Point(x, 20), 11.0f});
+  const cv::Vec3f blue = lab_of({200, 90, 30});
+  z.colours = {{0, lab_of({40, 40, 200})}, {1, blue}, {2, blue + cv::Vec3f(12, 0, 0)}};
+  b.labels.at<uint16_t>(27, 40) = 3;
+  refine_labels_by_colour(b.labels, b.mask, b.bgr, {z}, 10, 30);
+  EXPECT_EQ(b.labels.at<uint16_t>(25, 20), 2) << "blue drawn as red goes to the blue DLO";
+  EXPECT_EQ(b.labels.at<uint16_t>(27, 40), 3) << "blue drawn as the lighter blue stays";
+  EXPECT_EQ(b.labels.at<uint16_t>(15, 20), 1) << "red stays with DLO 0";
+}
+
 TEST(InstanceMask, ColourLeavesLabelsAloneWhenItCannotTellTheDlosApart) {
   ColourZone z;
   for (int x = 10; x < 70; x += 2) z.discs.push_back({cv::Point(x, 20), 11.0f});

@@ -88,8 +88,8 @@ struct DetectorConfig {
   double border_fold_energy = 1.0;
   // With the colour image and colour_weight > 0: inside a crossing region, a mask pixel goes
   // to the DLO whose colour it shows when that DLO's colour is nearer by at least this (Lab
-  // units, lightness counted half) than any other's there, and within three times this
-  // (instance_mask.h, refine_labels_by_colour). 0 turns it off.
+  // units, lightness counted half) than the colour of the DLO the pixel was drawn for, and
+  // within three times this (instance_mask.h, refine_labels_by_colour). 0 turns it off.
   double colour_label_margin = 10.0;
 };
 
