@@ -42,7 +42,7 @@ bool wider_than_neighbours(const SkeletonGraph& g, int i, double reach) {
         around.push_back(e.side == 0 ? b.radius[k] : b.radius[n - 1 - k]);
     }
   const float typical = middle_value(around);
-  return typical > 0 && mean >= 1.25 * typical;
+  return typical > 0 && mean >= kTwoStrandWidth * typical;
 }
 
 namespace {

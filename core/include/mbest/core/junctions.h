@@ -33,9 +33,12 @@ struct CrossingRegion {
 //    across a shallow crossing makes a Y, an X and a Y) are one crossing with those between
 //    them, when the path is no longer than `wide_length`.
 // Branches made inner are marked dead in `graph`.
+// Where two strands overlap or lie side by side, the mask is wider than either: a branch
+// whose radius is at least this many times that of the branches around it carries two.
+inline constexpr double kTwoStrandWidth = 1.25;
+
 // Is branch `i`, joining two junctions, wider than the other branches at those junctions
-// (their first `reach` pixels): its mean radius at least 1.25 times their median? Where
-// two strands overlap or lie side by side, the mask is wider than either.
+// (their first `reach` pixels): its mean radius at least kTwoStrandWidth times their median?
 bool wider_than_neighbours(const SkeletonGraph& graph, int i, double reach);
 
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& graph, double merge_length,
