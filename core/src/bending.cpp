@@ -332,6 +332,38 @@ std::vector<BranchTangent> exit_tangents(const SkeletonGraph& g, const std::vect
   return tangents;
 }
 
+namespace {
+
+// At a Y where one strand ends, its end may lie along another strand: the mask shows the
+// two side by side in one exit branch, wider than the others (kTwoStrandWidth), whose
+// colour near the Y mixes both. Past the point where that branch narrows to one DLO's
+// width, its colour is that of the strand running on, which is the one to pair it with.
+// So a wide exit of a Y takes its colour from `cut_length` past that point (within 15 %
+// of the wider other exit's radius), when a tangent fit's length of it is left there.
+void recolour_wide_exit(const SkeletonGraph& g, const std::vector<BranchEnd>& exits,
+                        const PairingSetup& s, std::vector<BranchTangent>& t) {
+  if (exits.size() != 3 || s.colour_weight <= 0 || s.bgr.empty()) return;
+  for (int w = 0; w < 3; ++w) {
+    const float others = std::max(t[(w + 1) % 3].radius, t[(w + 2) % 3].radius);
+    if (!t[w].has_colour || !(t[w].radius >= kTwoStrandWidth * others)) continue;
+    const Branch& b = g.branches[exits[w].branch];
+    const int n = static_cast<int>(b.pixels.size());
+    const auto radius = [&](int i) { return exits[w].side == 0 ? b.radius[i] : b.radius[n - 1 - i]; };
+    int narrow = t[w].cut;
+    while (narrow < n && radius(narrow) > 1.15f * others) ++narrow;
+    BranchTangent far = t[w];
+    far.cut = narrow + static_cast<int>(std::lround(s.cut_length));
+    far.reach = n - 1;
+    if (far.cut + static_cast<int>(std::lround(s.fit_length)) >= n) return;
+    sample_branch_colour(g, exits[w], s.bgr, &far,
+                         static_cast<int>(std::lround(kColourStretchFits * s.fit_length)));
+    t[w].colour = far.colour;
+    return;
+  }
+}
+
+}  // namespace
+
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache,
                                     double fold_energy) {
   const double colour_weight = cache.setup().colour_weight;
@@ -339,7 +371,8 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
   for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
     const CrossingRegion& region = regions[r];
     if (region.exits.size() < 2) continue;
-    const std::vector<BranchTangent> tangents = cache.of(region.exits);
+    std::vector<BranchTangent> tangents = cache.of(region.exits);
+    recolour_wide_exit(cache.graph(), region.exits, cache.setup(), tangents);
     if (tangents.size() == 2 && pair_cost(tangents[0], tangents[1], 0) > fold_energy) continue;
     for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
       Passage p;

@@ -243,6 +243,51 @@ TEST(Bending, RegionsThatPairBetterTogetherAreMerged) {
   }
 }
 
+// A Y where a green DLO ends lying along a yellow one: the yellow comes in from the lower
+// left and bends 30 degrees into the exit to the right, the green comes in from the left
+// bending 10, and lies on top of the yellow for the exit's first 40 px, where the exit is
+// wide (two strands side by side) and shows green. Past that it is the yellow alone.
+// `wide` = false draws the exit one DLO wide all along.
+struct EndAlongRod {
+  SkeletonGraph graph;
+  std::vector<CrossingRegion> regions;
+  cv::Mat bgr;
+  int yellow = -1, green = -1, exit = -1;
+};
+EndAlongRod end_along_rod(bool wide) {
+  HandGraph h;
+  h.bgr = cv::Mat(200, 260, CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Scalar yellow(30, 210, 230), green(40, 200, 60);
+  const int j = h.node({100, 100}, Node::Kind::junction);
+  EndAlongRod s;
+  s.yellow = h.branch(h.node({100 - 70, 100 + 40}, Node::Kind::end), j, yellow);  // 150 deg
+  s.green = h.branch(h.node({100 - 79, 100 - 14}, Node::Kind::end), j, green);    // 190 deg
+  s.exit = h.branch(j, h.node({230, 100}, Node::Kind::end), yellow);
+  cv::line(h.bgr, {100, 100}, {140, 100}, green, 5);
+  if (wide) {
+    Branch& b = h.graph.branches[s.exit];
+    for (size_t k = 0; k < b.pixels.size() && b.pixels[k].x < 140; ++k) b.radius[k] = 5.0f;
+  }
+  s.regions = h.regions_of({j});
+  s.graph = std::move(h.graph);
+  s.bgr = h.bgr;
+  return s;
+}
+
+TEST(Bending, AWideExitOfAYTakesItsColourPastWhereItNarrows) {
+  for (const bool wide : {true, false}) {
+    EndAlongRod s = end_along_rod(wide);
+    const PairingSetup setup{2, 8, s.bgr, 2.0};
+    TangentCache tangents(s.graph, setup);
+    const std::vector<Passage> passages = build_passages(s.regions, tangents);
+    ASSERT_EQ(passages.size(), 1u) << "a Y: one strand through, one ending";
+    const int through = passages[0].from.branch == s.exit ? passages[0].to.branch : passages[0].from.branch;
+    // Wide, the exit carries the green end beside the yellow strand, which runs on: the
+    // yellow goes through. One DLO wide, the exit is the green DLO's own continuation.
+    EXPECT_EQ(through, wide ? s.yellow : s.green) << (wide ? "wide exit" : "narrow exit");
+  }
+}
+
 // Past max_link, the link must be wider than the branches around it (two strands lying
 // side by side along it) for the merge.
 TEST(Bending, RegionsJoinedByALongWideLinkAreMerged) {

@@ -128,6 +128,7 @@ class TangentCache {
   TangentCache(const SkeletonGraph& graph, const PairingSetup& setup);
   std::vector<BranchTangent> of(const std::vector<BranchEnd>& exits);
   const PairingSetup& setup() const { return setup_; }
+  const SkeletonGraph& graph() const { return graph_; }
 
  private:
   const SkeletonGraph& graph_;
