@@ -173,6 +173,22 @@ TEST(CrossingResolution, SamplesWhereNoThirdRodOverlapsTheStrand) {
   EXPECT_TRUE(r.pairing_correct);
 }
 
+TEST(CrossingResolution, OrderUnderAThirdRodIsNotAssessed) {
+  // Rod 3 lies over the crossing of rods 1 and 2: the truth's label image shows rod 3 there,
+  // so no label image tells which of 1 and 2 is on top. The pairing is still assessed.
+  TwoRods s(90);
+  s.scene.rods.push_back(rod(3, {{60, 20}, {140, 100}}, 8));
+  draw(&s.gt, s.scene.rods[2], 3);
+  const CrossingResolution r = s.resolve(s.gt.clone());
+  EXPECT_FALSE(r.order_assessed);
+  EXPECT_FALSE(r.note.empty());
+  EXPECT_TRUE(r.pairing_assessed) << r.note;
+  EXPECT_TRUE(r.pairing_correct);
+  // Without rod 3 the same crossing's order is assessed (and right).
+  const TwoRods plain(90);
+  EXPECT_TRUE(plain.resolve(plain.gt.clone()).order_assessed);
+}
+
 TEST(CrossingResolution, ShortRodWithoutAClearSampleIsNotAssessed) {
   const TwoRods s(5);  // rod 2 ends before it clears rod 1
   const CrossingResolution r = s.resolve(relabel(s.gt, 1, 2));

@@ -208,10 +208,15 @@ std::vector<CrossingResolution> crossing_resolution(const synth::SceneAnnotation
     }
 
     const double min_width = std::min(a.rod->width_px, b.rod->width_px);
-    r.at_crossing = majority_label(pred16, gt16, c.location,
-                                   std::max(1.0, options.disc_radius_widths * min_width), 0);
+    const double disc = std::max(1.0, options.disc_radius_widths * min_width);
+    r.at_crossing = majority_label(pred16, gt16, c.location, disc, 0);
+    // The truth's label image shows the top rod at the crossing, unless a third rod lies
+    // over both there: then no label image, the truth's included, shows their order.
+    const int shown = majority_label(gt16, gt16, c.location, disc, 0);
     if (c.rod_a == c.rod_b) {
       if (r.note.empty()) r.note = "self-crossing: order not assessed from a label image";
+    } else if (shown != c.rod_a && shown != c.rod_b) {
+      if (r.note.empty()) r.note = "a third rod lies over the crossing: order not assessed";
     } else {
       r.order_assessed = true;
       const int top = dice.instance_of(c.top);

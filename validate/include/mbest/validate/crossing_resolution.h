@@ -39,7 +39,9 @@ struct CrossingResolution {
   // keep two labels).
   bool pairing_assessed = false, pairing_correct = false;
   // Order: the label at the crossing is the one matched (matched DICE) to the top rod. Not
-  // assessed for a self-crossing: a label image cannot show which strand of one rod is on top.
+  // assessed for a self-crossing (a label image cannot show which strand of one rod is on
+  // top), nor where the ground truth's label at the crossing is a third rod's (one lying over
+  // both: no label image shows their order there).
   bool order_assessed = false, order_correct = false;
   std::string note;  // why something was not assessed; empty otherwise
 };
