@@ -1,7 +1,8 @@
 // mbest_bench: the detector's speed on a data set, the way the issue asks for it: median
 // milliseconds per frame, per tier and per stage, single thread, mask in, labels and
-// centerlines out. Masks are made once up front (colour filter, or --mask-dir files), so
-// only the detector is timed. Every frame is run --rounds times; medians are over all runs.
+// centerlines out. Masks are made once up front (built-in colour filter), so only the
+// detector is timed. Every frame is run --rounds times, the tiers taking turns round by
+// round; medians are over all runs.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -79,23 +80,31 @@ int main(int argc, char** argv) {
   std::map<std::string, double> tier_median, tier_mask_px;
   std::printf("%-6s %6s %9s %10s %10s %10s   per stage (median ms)\n", "tier", "frames", "mask_px",
               "median_ms", "p10_ms", "p90_ms");
-  for (const auto& [name, frames] : tiers) {
+  // Round by round over every tier, so that a slow spell of a shared machine falls on all
+  // tiers alike instead of on whichever ran then: the tiers' ratio is what drifts most.
+  struct Runs {
     std::vector<double> totals;
     std::map<std::string, std::vector<double>> stages;
     std::vector<std::string> stage_order;
-    for (int r = 0; r < rounds; ++r)
+  };
+  std::map<std::string, Runs> runs;
+  for (int r = 0; r < rounds; ++r)
+    for (const auto& [name, frames] : tiers)
       for (const Frame& f : frames) {
         auto det = mbest::detect(f.mask, f.image, config);
         if (!det) {
           std::cerr << "mbest_bench: " << det.error().message << "\n";
           return 1;
         }
-        totals.push_back(det.value().total_ms());
+        Runs& run = runs[name];
+        run.totals.push_back(det.value().total_ms());
         for (const auto& s : det.value().timings) {
-          if (!stages.count(s.stage)) stage_order.push_back(s.stage);
-          stages[s.stage].push_back(s.ms);
+          if (!run.stages.count(s.stage)) run.stage_order.push_back(s.stage);
+          run.stages[s.stage].push_back(s.ms);
         }
       }
+  for (const auto& [name, frames] : tiers) {
+    auto& [totals, stages, stage_order] = runs[name];
     std::sort(totals.begin(), totals.end());
     const double med = mbest::median(totals);
     tier_median[name] = med;
