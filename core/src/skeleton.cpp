@@ -89,22 +89,41 @@ std::array<uint8_t, 256> staircase_table() {
   return lut;
 }
 
-// The mask as bits, 64 pixels a word: pixel (x, y) is bit x % 64 of word
-// (y + 1) * stride + 1 + x / 64. A zero guard row above and below and a zero guard word at
-// both ends of every row make all 8 neighbours of a pixel readable without checks.
-struct BitImage {
+// The mask as bits in 8 x 8 tiles, one 64-bit word a tile: pixel (x, y) is bit
+// 8 (y % 8) + x % 8 of tile (x / 8 + 1, y / 8 + 1) of a grid `stride` tiles wide, whose
+// outermost ring of tiles is zero, so all 8 neighbour tiles of a mask tile are readable
+// without checks. A thin DLO covers about as many tiles per pixel of length at any angle;
+// rows of 64 pixels cost one word per row a near-vertical DLO crosses.
+struct TileImage {
   int stride = 0;
-  std::vector<uint64_t> words;
+  std::vector<uint64_t> tiles;
 };
 
-BitImage pack(const cv::Mat& mask) {
-  BitImage b;
-  const int cols = mask.cols, row_words = (cols + 63) / 64;
-  b.stride = row_words + 2;
-  b.words.assign(static_cast<size_t>(mask.rows + 2) * b.stride, 0);
+constexpr uint64_t kColumn0 = 0x0101010101010101ULL;  // pixel x % 8 == 0 of every row
+constexpr uint64_t kColumn7 = kColumn0 << 7;
+constexpr uint64_t kRow0 = 0xFFULL, kRow7 = kRow0 << 56;
+
+// The bits of each pixel's east (x + 1) and west (x - 1) neighbour, given the tile `t` and
+// the tile to its right or left.
+constexpr uint64_t east_of(uint64_t t, uint64_t right) {
+  return ((t >> 1) & ~kColumn7) | ((right & kColumn0) << 7);
+}
+constexpr uint64_t west_of(uint64_t t, uint64_t left) {
+  return ((t << 1) & ~kColumn0) | ((left & kColumn7) >> 7);
+}
+// The same for the north (y - 1) and south (y + 1) neighbour, given the tile above or below.
+constexpr uint64_t north_of(uint64_t t, uint64_t up) { return (t << 8) | (up >> 56); }
+constexpr uint64_t south_of(uint64_t t, uint64_t down) { return (t >> 8) | (down << 56); }
+
+TileImage pack(const cv::Mat& mask) {
+  TileImage b;
+  const int cols = mask.cols;
+  b.stride = (cols + 7) / 8 + 2;
+  b.tiles.assign(static_cast<size_t>((mask.rows + 7) / 8 + 2) * b.stride, 0);
   for (int y = 0; y < mask.rows; ++y) {
     const uint8_t* m = mask.ptr<uint8_t>(y);
-    uint64_t* out = b.words.data() + static_cast<size_t>(y + 1) * b.stride + 1;
+    uint64_t* out = b.tiles.data() + static_cast<size_t>(y / 8 + 1) * b.stride + 1;
+    const int shift = 8 * (y % 8);
     int x = 0;
 #ifdef __SSE2__
     // 16 pixels per compare: the sign bits of (byte == 0), inverted, are the foreground bits.
@@ -112,10 +131,11 @@ BitImage pack(const cv::Mat& mask) {
     for (; x + 16 <= cols; x += 16) {
       const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(m + x));
       const unsigned bits = ~static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, zero))) & 0xFFFFu;
-      out[x / 64] |= static_cast<uint64_t>(bits) << (x % 64);
+      out[x / 8] |= static_cast<uint64_t>(bits & 0xFFu) << shift;
+      out[x / 8 + 1] |= static_cast<uint64_t>(bits >> 8) << shift;
     }
 #endif
-    for (; x < cols; ++x) out[x / 64] |= static_cast<uint64_t>(m[x] != 0) << (x % 64);
+    for (; x < cols; ++x) out[x / 8] |= static_cast<uint64_t>(m[x] != 0) << (shift + x % 8);
   }
   return b;
 }
@@ -126,18 +146,18 @@ Skeleton skeletonize(const cv::Mat& mask) {
   static const std::array<uint8_t, 256> kStaircase = staircase_table();
   CV_Assert(mask.type() == CV_8UC1);
 
-  // Zhang-Suen on the bit image: the rule is evaluated for a whole word at once (see
+  // Zhang-Suen on the tiled bit image: the rule is evaluated for a whole tile at once (see
   // zhang_suen_removable), so a sub-iteration costs about as much per 64 pixels as the byte
-  // version did per pixel. Only words whose 3x3 word neighbourhood changed since their last
+  // version did per pixel. Only tiles whose 3x3 tile neighbourhood changed since their last
   // evaluation in that sub-iteration are evaluated again: a pixel's fate depends on its 8
   // neighbours only, so the others would find nothing to delete. dirty[i] bit `pass` says
-  // word i is in todo[pass].
-  BitImage b = pack(mask);
-  uint64_t* w = b.words.data();
+  // tile i is in todo[pass].
+  TileImage b = pack(mask);
+  uint64_t* w = b.tiles.data();
   const ptrdiff_t stride = b.stride;
-  std::vector<uint8_t> dirty(b.words.size(), 0);
+  std::vector<uint8_t> dirty(b.tiles.size(), 0);
   std::vector<int> todo[2], current;
-  for (size_t i = 0; i < b.words.size(); ++i)
+  for (size_t i = 0; i < b.tiles.size(); ++i)
     if (w[i]) {
       dirty[i] = 3;
       todo[0].push_back(static_cast<int>(i));
@@ -150,12 +170,12 @@ Skeleton skeletonize(const cv::Mat& mask) {
         todo[pass].push_back(static_cast<int>(i));
       }
   };
-  std::vector<std::pair<int, uint64_t>> removed;  // word, bits to clear
+  std::vector<std::pair<int, uint64_t>> removed;  // tile, bits to clear
   bool changed = true;
   while (changed) {
     changed = false;
     for (int pass = 0; pass < 2; ++pass) {
-      // Every word is judged on the image as it was before this sub-iteration: deletions
+      // Every tile is judged on the image as it was before this sub-iteration: deletions
       // are collected first and applied after.
       current.swap(todo[pass]);
       todo[pass].clear();
@@ -166,29 +186,32 @@ Skeleton skeletonize(const cv::Mat& mask) {
         if (!c) continue;
         const uint64_t* up = w + i - stride;
         const uint64_t* down = w + i + stride;
-        const uint64_t p[8] = {
-            up[0],                                   // N
-            (up[0] >> 1) | (up[1] << 63),            // NE: the pixel to the right, one row up
-            (c >> 1) | (w[i + 1] << 63),             // E
-            (down[0] >> 1) | (down[1] << 63),        // SE
-            down[0],                                 // S
-            (down[0] << 1) | (down[-1] >> 63),       // SW
-            (c << 1) | (w[i - 1] >> 63),             // W
-            (up[0] << 1) | (up[-1] >> 63)};          // NW
+        const uint64_t e = east_of(c, w[i + 1]), west = west_of(c, w[i - 1]);
+        const uint64_t e_up = east_of(up[0], up[1]), e_down = east_of(down[0], down[1]);
+        const uint64_t w_up = west_of(up[0], up[-1]), w_down = west_of(down[0], down[-1]);
+        const uint64_t p[8] = {north_of(c, up[0]),   north_of(e, e_up),     e,
+                               south_of(e, e_down),  south_of(c, down[0]),  south_of(west, w_down),
+                               west,                 north_of(west, w_up)};  // N, NE, ..., NW
         const uint64_t del = c & zhang_suen_removable(p, pass);
         if (del) removed.emplace_back(i, del);
       }
       if (removed.empty()) continue;
       changed = true;
       for (const auto& [i, del] : removed) w[i] &= ~del;
-      // What changes: this word's row and the rows above and below; the next word only if
-      // its neighbour bit 63 went, the previous one only if bit 0 went.
-      for (const auto& [i, del] : removed)
-        for (ptrdiff_t r : {-stride, ptrdiff_t{0}, stride}) {
-          mark(i + r);
-          if (del & 1) mark(i + r - 1);
-          if (del >> 63) mark(i + r + 1);
-        }
+      // What changes: this tile, and a neighbour tile only where a deleted pixel lies on the
+      // edge or corner facing it.
+      for (const auto& [i, del] : removed) {
+        mark(i);
+        const bool n = del & kRow0, s = del & kRow7, west = del & kColumn0, e = del & kColumn7;
+        if (n) mark(i - stride);
+        if (s) mark(i + stride);
+        if (west) mark(i - 1);
+        if (e) mark(i + 1);
+        if (del & 1) mark(i - stride - 1);
+        if (del & (uint64_t{1} << 7)) mark(i - stride + 1);
+        if (del & (uint64_t{1} << 56)) mark(i + stride - 1);
+        if (del >> 63) mark(i + stride + 1);
+      }
     }
   }
 
@@ -200,10 +223,11 @@ Skeleton skeletonize(const cv::Mat& mask) {
   const size_t step = sk.buffer.step;
   std::vector<ptrdiff_t> remaining;  // in raster order
   for (int y = 0; y < mask.rows; ++y) {
-    const uint64_t* row = w + static_cast<size_t>(y + 1) * stride + 1;
+    const uint64_t* row = w + static_cast<size_t>(y / 8 + 1) * stride + 1;
+    const int shift = 8 * (y % 8);
     for (int k = 0; k < stride - 2; ++k)
-      for (uint64_t bits = row[k]; bits; bits &= bits - 1) {
-        const int x = 64 * k + __builtin_ctzll(bits);
+      for (unsigned bits = static_cast<unsigned>(row[k] >> shift) & 0xFFu; bits; bits &= bits - 1) {
+        const int x = 8 * k + __builtin_ctz(bits);
         const ptrdiff_t i = static_cast<ptrdiff_t>((y + 1) * step + x + 1);
         data[i] = 1;
         remaining.push_back(i);
