@@ -339,7 +339,10 @@ namespace {
 // colour near the Y mixes both. Past the point where that branch narrows to one DLO's
 // width, its colour is that of the strand running on, which is the one to pair it with.
 // So a wide exit of a Y takes its colour from `cut_length` past that point (within 15 %
-// of the wider other exit's radius), when a tangent fit's length of it is left there.
+// of the wider other exit's radius), when a tangent fit's length of it is left there. That
+// may read past the half of the branch an exit shared with another crossing otherwise keeps
+// to: the side-by-side stretch often covers that half, and the median of the longer stretch
+// still outvotes the far crossing's overlap.
 void recolour_wide_exit(const SkeletonGraph& g, const std::vector<BranchEnd>& exits,
                         const PairingSetup& s, std::vector<BranchTangent>& t) {
   if (exits.size() != 3 || s.colour_weight <= 0 || s.bgr.empty()) return;
