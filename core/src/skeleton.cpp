@@ -207,10 +207,10 @@ Skeleton skeletonize(const cv::Mat& mask) {
         if (s) mark(i + stride);
         if (west) mark(i - 1);
         if (e) mark(i + 1);
-        if (del & 1) mark(i - stride - 1);
-        if (del & (uint64_t{1} << 7)) mark(i - stride + 1);
-        if (del & (uint64_t{1} << 56)) mark(i + stride - 1);
-        if (del >> 63) mark(i + stride + 1);
+        if (del & kRow0 & kColumn0) mark(i - stride - 1);
+        if (del & kRow0 & kColumn7) mark(i - stride + 1);
+        if (del & kRow7 & kColumn0) mark(i + stride - 1);
+        if (del & kRow7 & kColumn7) mark(i + stride + 1);
       }
     }
   }
