@@ -130,7 +130,8 @@ int main(int argc, char** argv) {
     }
     std::printf("\n");
     out["tiers"][name] = {{"frames", frames.size()}, {"runs", totals.size()}, {"median_ms", med},
-                          {"median_best_ms", tier_best[name]}, {"median_mask_px", tier_mask_px[name]}, {"median_stages_ms", st}};
+                          {"median_best_ms", tier_best[name]}, {"median_mask_px", tier_mask_px[name]},
+                          {"median_stages_ms", st}};
   }
   if (tier_median.count("S1") && tier_median.count("S3") && tier_median["S1"] > 0) {
     const double ratio = tier_median["S3"] / tier_median["S1"];

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
 #ifdef __SSE2__
@@ -216,14 +215,12 @@ Skeleton skeletonize(const cv::Mat& mask) {
     }
   }
 
-  // Back to bytes, with a zero border: only the few remaining pixels need writing. The
-  // buffer is cleared with memset (cv::Mat::zeros goes through a generic fill costing about
-  // one instruction a byte), and each row of tiles is scanned once for its non-empty tiles,
-  // whose eight pixel rows are then read in raster order (scanning the tiles again for every
-  // pixel row cost more than the rest of the conversion).
+  // Back to bytes, with a zero border: only the few remaining pixels need writing. Each row
+  // of tiles is scanned once for its non-empty tiles, whose eight pixel rows are then read
+  // in raster order (scanning all tiles again for every pixel row cost more than the rest of
+  // the conversion).
   Skeleton sk;
-  sk.buffer.create(mask.rows + 2, mask.cols + 2, CV_8UC1);
-  std::memset(sk.buffer.data, 0, sk.buffer.step * static_cast<size_t>(sk.buffer.rows));
+  sk.buffer = cv::Mat::zeros(mask.rows + 2, mask.cols + 2, CV_8UC1);
   sk.image = sk.buffer(cv::Rect(1, 1, mask.cols, mask.rows));
   uint8_t* data = sk.buffer.data;
   const size_t step = sk.buffer.step;
