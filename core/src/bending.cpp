@@ -325,6 +325,11 @@ std::vector<BranchTangent> TangentCache::of(const std::vector<BranchEnd>& exits)
   return out;
 }
 
+double TangentCache::least_cost(const std::vector<BranchEnd>& exits) {
+  const std::vector<BranchTangent> t = of(exits);
+  return pairing_cost(t, min_energy_pairing(t, setup_.colour_weight), setup_.colour_weight);
+}
+
 std::vector<BranchTangent> exit_tangents(const SkeletonGraph& g, const std::vector<BranchEnd>& exits,
                                          const PairingSetup& s) {
   std::vector<BranchTangent> tangents;
@@ -406,11 +411,6 @@ namespace mbest {
 int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>& regions,
                                   TangentCache& cache, double max_link, double min_gain,
                                   double wide_link, double wide_reach) {
-  const PairingSetup& setup = cache.setup();
-  const auto best_cost = [&](const std::vector<BranchEnd>& exits) {
-    const std::vector<BranchTangent> t = cache.of(exits);
-    return pairing_cost(t, min_energy_pairing(t, setup.colour_weight), setup.colour_weight);
-  };
   int merged = 0;
   for (;;) {
     const std::vector<int> region_of = region_of_nodes(g, regions);
@@ -431,12 +431,12 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       std::vector<BranchEnd> exits = joined_exits(a, c, i);
       if (exits.size() < 4 || exits.size() > 10) continue;
       for (int r : {ra, rb})
-        if (cost[r] < 0) cost[r] = best_cost(regions[r].exits);
+        if (cost[r] < 0) cost[r] = cache.least_cost(regions[r].exits);
       // Costs are never negative: regions that pair well alone cannot gain enough.
       if (cost[ra] + cost[rb] <= best_gain) continue;
       // A wide link must gain three times as much: past max_link the strands at its two
       // ends are far apart, and a pairing cost is a weaker cue there.
-      const double gain = cost[ra] + cost[rb] - best_cost(exits) - (wide ? 2 * min_gain : 0);
+      const double gain = cost[ra] + cost[rb] - cache.least_cost(exits) - (wide ? 2 * min_gain : 0);
       if (gain > best_gain) {
         best_gain = gain;
         best_link = i;

@@ -364,13 +364,16 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return prune_split_ends(graph, 2 * r, mask.size(), colour) +
            cut_folds_at_border(graph, config.fit_radii * r, mask.size(), config.border_fold_energy);
   });
+  // Exit tangents and colours depend on their own branch only: computed once, on demand,
+  // for junction grouping and pairing alike.
+  const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr, config.colour_weight};
+  TangentCache tangents(graph, pairing);
   auto regions = stage("junctions", [&] {
     return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,
-                           config.wide_radii * r);
+                           config.wide_radii * r,
+                           [&](const std::vector<BranchEnd>& exits) { return tangents.least_cost(exits); });
   });
-  const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr, config.colour_weight};
   auto passages = stage("bending", [&] {
-    TangentCache tangents(graph, pairing);
     pair_lone_ys(graph, regions, tangents, config.epsilon_radii * r, config.wide_radii * r,
                  config.lone_y_cost);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,

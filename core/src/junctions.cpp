@@ -3,10 +3,15 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <numeric>
 
 namespace mbest {
 namespace {
+
+// Pairings of more exits are greedy (bending.h), their costs no fair comparison.
+constexpr size_t kMaxExhaustiveExits = 10;
+constexpr double kUnknownCost = std::numeric_limits<double>::infinity();
 
 struct UnionFind {
   std::vector<int> parent;
@@ -146,7 +151,7 @@ void pair_ys_through_crossings(SkeletonGraph& g, UnionFind& uf, std::vector<int>
 }  // namespace
 
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_length, double epsilon,
-                                            double wide_length) {
+                                            double wide_length, const ExitsCost& pairing_cost) {
   const int n_nodes = static_cast<int>(g.nodes.size());
   UnionFind uf(n_nodes);
   auto make_inner = [&](Branch& b) { b.alive = false; };
@@ -179,7 +184,9 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
   std::vector<int> degree;
   degree_of(degree);
 
-  // Y-pair matching: odd crossings joined by one branch, shortest first, each paired once.
+  // Y-pair matching: odd crossings joined by one branch, each paired once: cheapest first by
+  // what joining adds to the cost of pairing their exits, given a cost; shortest first
+  // otherwise and among pairs with a crossing too large to pair exhaustively.
   std::vector<int> order;
   for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
     const Branch& b = g.branches[i];
@@ -190,6 +197,33 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
   }
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return g.branches[a].length < g.branches[b].length; });
+  if (pairing_cost) {
+    // The exits of the crossings `roots` as they stand, less branch `skip`.
+    const auto exits_of = [&](std::initializer_list<int> roots, int skip) {
+      std::vector<BranchEnd> exits;
+      for (int k = 0; k < static_cast<int>(g.branches.size()); ++k) {
+        const Branch& b = g.branches[k];
+        if (!b.alive || k == skip) continue;
+        for (int s = 0; s < 2; ++s)
+          if (g.nodes[b.node[s]].kind == Node::Kind::junction &&
+              std::find(roots.begin(), roots.end(), uf.find(b.node[s])) != roots.end())
+            exits.push_back({k, s});
+      }
+      return exits;
+    };
+    const auto cost_of = [&](const std::vector<BranchEnd>& exits) {
+      return exits.size() <= kMaxExhaustiveExits ? pairing_cost(exits) : kUnknownCost;
+    };
+    std::vector<double> added(g.branches.size(), kUnknownCost);
+    for (int i : order) {
+      const int r0 = uf.find(g.branches[i].node[0]), r1 = uf.find(g.branches[i].node[1]);
+      if (r0 == r1 || degree[r0] % 2 == 0 || degree[r1] % 2 == 0) continue;
+      const double joined = cost_of(exits_of({r0, r1}, i)), a = cost_of(exits_of({r0}, -1)),
+                   c = cost_of(exits_of({r1}, -1));
+      if (joined < kUnknownCost && a < kUnknownCost && c < kUnknownCost) added[i] = joined - a - c;
+    }
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return added[a] < added[b]; });
+  }
   std::vector<bool> paired(n_nodes, false);
   for (int i : order) {
     Branch& b = g.branches[i];

@@ -127,6 +127,8 @@ class TangentCache {
  public:
   TangentCache(const SkeletonGraph& graph, const PairingSetup& setup);
   std::vector<BranchTangent> of(const std::vector<BranchEnd>& exits);
+  // The cost of the least-cost pairing of `exits` (min_energy_pairing, pairing_cost).
+  double least_cost(const std::vector<BranchEnd>& exits);
   const PairingSetup& setup() const { return setup_; }
   const SkeletonGraph& graph() const { return graph_; }
 

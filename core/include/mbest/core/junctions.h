@@ -3,6 +3,7 @@
 // crossing, whatever shape the skeleton gave it (one X, two Ys, or several small nodes).
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -23,12 +24,16 @@ struct CrossingRegion {
 //    crossing (three DLOs through one point give several such small junctions);
 // 2. a branch that leaves and re-enters the same crossing within 4 `merge_length` is inside
 //    it (a hole in the mask makes such a small cycle);
-// 3. crossings with an odd number of exits (Ys) are paired, closest first along the branch
-//    joining them, while that branch is no longer than `epsilon` (the paper's 10 r), or,
-//    up to `wide_length`, while it is wider than the DLOs around it (mean radius at least
-//    1.25 times theirs): two strands crossing at a shallow angle theta overlap over about
+// 3. crossings with an odd number of exits (Ys) are paired, while the branch joining them is
+//    no longer than `epsilon` (the paper's 10 r), or, up to `wide_length`, while it is wider
+//    than the DLOs around it (mean radius at least 1.25 times theirs): two strands crossing at a shallow angle theta overlap over about
 //    2 r / sin(theta / 2), where the mask is wider than one DLO; a branch between two
 //    separate T-junctions is not. The pair is one X-crossing, its joining branch inside it.
+//    Each Y a Y-pair once: with `pairing_cost`, cheapest first by how much joining two adds
+//    to the cost of pairing their exits (a Y alone leaves one strand ending, free; joined,
+//    the two such strands must pair): of two Ys a Y could be paired with, the one whose
+//    strands continue its own. Closest first without it, as the paper (and among pairs
+//    where a crossing has more than 10 exits).
 // 4. Ys still unpaired whose joining path runs through other crossings (a third strand
 //    across a shallow crossing makes a Y, an X and a Y) are one crossing with those between
 //    them, when the path is no longer than `wide_length`.
@@ -41,7 +46,11 @@ inline constexpr double kTwoStrandWidth = 1.25;
 // (their first `reach` pixels): its mean radius at least kTwoStrandWidth times their median?
 bool wider_than_neighbours(const SkeletonGraph& graph, int i, double reach);
 
+// The least cost of pairing a set of exits (bending.h: bending energy and colour).
+using ExitsCost = std::function<double(const std::vector<BranchEnd>& exits)>;
+
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& graph, double merge_length,
-                                            double epsilon, double wide_length);
+                                            double epsilon, double wide_length,
+                                            const ExitsCost& pairing_cost = {});
 
 }  // namespace mbest
