@@ -420,7 +420,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
     std::vector<BranchEnd> best_exits;
     for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
       const Branch& b = g.branches[i];
-      if (!b.alive) continue;
+      if (!b.alive || b.twin >= 0) continue;
       const bool wide = b.length > max_link;
       if (wide && !(b.length <= wide_link && wider_than_neighbours(g, i, wide_reach))) continue;
       const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
@@ -474,7 +474,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
   std::vector<Candidate> candidates;
   for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
     const Branch& b = g.branches[i];
-    if (!b.alive || b.length <= min_link || b.length > max_link) continue;
+    if (!b.alive || b.twin >= 0 || b.length <= min_link || b.length > max_link) continue;
     const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
     if (ra < 0 || rb < 0 || ra == rb) continue;
     const CrossingRegion &a = regions[ra], &c = regions[rb];

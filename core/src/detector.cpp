@@ -15,6 +15,7 @@
 #include "mbest/core/keypoints.h"
 #include "mbest/core/prune.h"
 #include "mbest/core/skeleton.h"
+#include "mbest/core/strands.h"
 #include "mbest/core/traverse.h"
 
 namespace mbest {
@@ -294,7 +295,8 @@ constexpr ConfigField kConfigFields[] = {
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
     {"border_fold_energy", &DetectorConfig::border_fold_energy, 0, 1000},
-    {"colour_label_margin", &DetectorConfig::colour_label_margin, 0, 1000}};
+    {"colour_label_margin", &DetectorConfig::colour_label_margin, 0, 1000},
+    {"side_by_side_radii", &DetectorConfig::side_by_side_radii, 0, 1000}};
 
 std::string out_of_range(const ConfigField& f, const std::string& value) {
   char range[64];
@@ -364,6 +366,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return prune_split_ends(graph, 2 * r, mask.size(), colour) +
            cut_folds_at_border(graph, config.fit_radii * r, mask.size(), config.border_fold_energy);
   });
+  stage("strands", [&] { return split_side_by_side(graph, mask, config.side_by_side_radii * r); });
   // Exit tangents and colours depend on their own branch only: computed once, on demand,
   // for junction grouping and pairing alike.
   const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr, config.colour_weight};

@@ -23,8 +23,10 @@ struct UnionFind {
   void unite(int a, int b) { parent[find(a)] = find(b); }
 };
 
+// Can branch `b` join the crossings at its two ends into one: does it join two junctions,
+// and carry one strand (not one of two side-by-side twins, each a strand of its own)?
 bool joins_junctions(const SkeletonGraph& g, const Branch& b) {
-  return g.nodes[b.node[0]].kind == Node::Kind::junction &&
+  return b.twin < 0 && g.nodes[b.node[0]].kind == Node::Kind::junction &&
          g.nodes[b.node[1]].kind == Node::Kind::junction;
 }
 

@@ -22,6 +22,11 @@ constexpr uint8_t kVisited = 4;
 
 }  // namespace
 
+bool leaves_image(const SkeletonGraph& g, const Branch& b, int side, cv::Size image) {
+  const float r = b.radius.empty() ? 1.0f : (side == 0 ? b.radius.front() : b.radius.back());
+  return distance_to_border(g.nodes[b.node[side]].pixels.front(), image) <= r + 1.5f;
+}
+
 double chain_length(const std::vector<cv::Point>& pixels) {
   double len = 0;
   for (size_t i = 1; i < pixels.size(); ++i)

@@ -9,18 +9,6 @@ namespace mbest {
 
 namespace {
 
-// Distance in pixels from `p` to just outside the nearest border of an image of size `image`.
-int to_border(cv::Point p, cv::Size image) {
-  return 1 + std::min({p.x, p.y, image.width - 1 - p.x, image.height - 1 - p.y});
-}
-
-// Does the branch end at `side` run out of the image: is the image border no farther from
-// the end pixel than the mask's edge (the radius measured there, plus a pixel)?
-bool leaves_image(const SkeletonGraph& g, const Branch& b, int side, cv::Size image) {
-  const float r = b.radius.empty() ? 1.0f : (side == 0 ? b.radius.front() : b.radius.back());
-  return to_border(g.nodes[b.node[side]].pixels.front(), image) <= r + 1.5f;
-}
-
 cv::Point2f unit(cv::Point2f v) {
   const float n = std::hypot(v.x, v.y);
   return n > 0 ? v * (1.0f / n) : v;
@@ -140,7 +128,7 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
     double sharpest = -1;  // cosine of the turn: -1 is a full turn back
     for (int i = 2 * k; i + 2 * k < n; ++i) {
       const cv::Point p = px[i];
-      if (to_border(p, image) > (radius.empty() ? 1.0f : radius[i]) + 1.5f) continue;
+      if (distance_to_border(p, image) > (radius.empty() ? 1.0f : radius[i]) + 1.5f) continue;
       const cv::Point2f before = unit(cv::Point2f(p - px[i - k])), after = unit(cv::Point2f(px[i + k] - p));
       // The arms run straight up to the tip: a small loop or a hairpin at the border turns
       // as sharply, but all along.

@@ -162,30 +162,89 @@ TEST(Detector, ThreeColouredRodsCrossingNearOnePoint) {
 // mask is one band there and the paths drawn through it are a guess, but every pixel shows
 // its rod's colour.
 TEST(Detector, SideBySideRodsOfTwoColoursAreLabelledByColour) {
-  const cv::Size size(420, 300);
-  std::vector<cv::Point> red, blue;
-  for (int x = 20; x <= 400; x += 4) {
-    // Apart at both ends, touching (centres 13 px apart, 13 px wide) from x = 120 to 300,
-    // along a gentle arc.
-    const double arc = 150 + 40 * std::sin((x - 20) * M_PI / 380);
-    const double apart = x < 120 ? (120 - x) * 0.5 : x > 300 ? (x - 300) * 0.5 : 0;
-    red.emplace_back(x, static_cast<int>(std::lround(arc - 6.5 - apart)));
-    blue.emplace_back(x, static_cast<int>(std::lround(arc + 6.5 + apart)));
-  }
+  // Rods lying side by side: with the branch they share split in two (strands.h) off, the
+  // paths drawn through the one crossing region their Ys make are a guess, which the
+  // colour labels put right.
   std::vector<cv::Mat> gt;
-  const cv::Mat mask = scene(size, {red, blue}, 13, &gt);
+  const test::SideBySide rods = test::side_by_side(13, 13);
+  const cv::Mat mask = scene({420, 300}, {rods.a, rods.b}, 13, &gt);
   const cv::Mat bgr = painted(gt, {cv::Scalar(40, 40, 200), cv::Scalar(200, 90, 30)});
-  auto r = detect(mask, bgr);
+  DetectorConfig unsplit;
+  unsplit.side_by_side_radii = 1000;
+  auto r = detect(mask, bgr, unsplit);
   ASSERT_TRUE(r.ok());
   ASSERT_EQ(r.value().dlos.size(), 2u);
   EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.98);
   expect_labels_cover_mask(r.value(), mask);
-  DetectorConfig no_colour_labels;
-  no_colour_labels.colour_label_margin = 0;
-  auto drawn = detect(mask, bgr, no_colour_labels);
+  DetectorConfig unsplit_drawn = unsplit;
+  unsplit_drawn.colour_label_margin = 0;
+  auto drawn = detect(mask, bgr, unsplit_drawn);
   ASSERT_TRUE(drawn.ok());
   EXPECT_LT(test::strict_dice(gt, drawn.value().labels), 0.9)
       << "drawn paths alone must get this scene wrong: else this test proves nothing";
+}
+
+// Two rods (`gt`) lying side by side over a stretch are two DLOs that do not cross, from
+// the mask alone: the branch they share is split in two, one strand on each side.
+void expect_two_dlos_side_by_side(const cv::Mat& mask, const std::vector<cv::Mat>& gt) {
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  const Detection& d = r.value();
+  EXPECT_EQ(d.dlos.size(), 2u);
+  EXPECT_TRUE(d.crossings.empty()) << d.crossings.size() << " crossings";
+  EXPECT_GT(test::strict_dice(gt, d.labels), 0.95);
+  expect_labels_cover_mask(d, mask);
+  DetectorConfig unsplit;
+  unsplit.side_by_side_radii = 1000;
+  auto without = detect(mask, cv::Mat(), unsplit);
+  ASSERT_TRUE(without.ok());
+  EXPECT_LT(test::strict_dice(gt, without.value().labels), 0.9)
+      << "the scene must need the split: else this test proves nothing";
+}
+
+// expect_two_dlos_side_by_side for `rods` drawn `width` px wide, as drawn and mirrored
+// (the skeleton's branches then run the other way).
+void expect_two_rods_side_by_side(const std::vector<std::vector<cv::Point>>& rods, int width) {
+  std::vector<cv::Mat> drawn;
+  const cv::Mat unmirrored = scene({420, 300}, rods, width, &drawn);
+  for (int flip : {2, 0, 1}) {  // none, about the x axis, about the y axis
+    SCOPED_TRACE(flip);
+    cv::Mat mask = unmirrored.clone();
+    std::vector<cv::Mat> gt;
+    for (const cv::Mat& m : drawn) gt.push_back(m.clone());
+    if (flip < 2) {
+      cv::flip(unmirrored, mask, flip);
+      for (size_t k = 0; k < gt.size(); ++k) cv::flip(drawn[k], gt[k], flip);
+    }
+    expect_two_dlos_side_by_side(mask, gt);
+  }
+}
+
+TEST(Detector, RodsTouchingSideBySideAreTwoDlosThatDoNotCross) {
+  for (int width : {9, 13}) {
+    SCOPED_TRACE(width);
+    const test::SideBySide rods = test::side_by_side(width, width);
+    expect_two_rods_side_by_side({rods.a, rods.b}, width);
+  }
+}
+
+TEST(Detector, RodEndingAlongAnotherEndsThere) {
+  for (int width : {9, 13}) {
+    SCOPED_TRACE(width);
+    const test::SideBySide rods = test::side_by_side(width, width, 250);
+    expect_two_rods_side_by_side({rods.a, rods.b}, width);
+  }
+}
+
+TEST(Detector, RodsLeavingTheImageSideBySideAlongAStretch) {
+  // Apart on the left, side by side from x = 200 out through the right edge.
+  std::vector<cv::Point> a, b;
+  for (int x = 20; x <= 430; x += 4) {
+    const double apart = x < 200 ? (200 - x) * 0.5 : 0;
+    a.emplace_back(x, static_cast<int>(std::lround(150 - 5.5 - apart)));
+    b.emplace_back(x, static_cast<int>(std::lround(150 + 5.5 + apart)));
+  }
+  expect_two_rods_side_by_side({a, b}, 11);
 }
 
 TEST(Detector, NearParallelCrossingFromTwoYs) {

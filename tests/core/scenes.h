@@ -38,6 +38,23 @@ inline std::vector<cv::Point> line_through(cv::Point2d c, double angle_deg, doub
   return {cv::Point(cv::Point2d(c - d)), cv::Point(cv::Point2d(c + d))};
 }
 
+// Two rods `wa` and `wb` px wide along a gentle arc across a 420 x 300 picture, from x = 20 to
+// `b_to_x` (rod b) and 400 (rod a): apart at both ends, lying side by side, touching, from
+// x = 120 to 300, rod a above. Rod b ends lying along rod a when `b_to_x` is inside that.
+struct SideBySide {
+  std::vector<cv::Point> a, b;
+};
+inline SideBySide side_by_side(int wa, int wb, int b_to_x = 400) {
+  SideBySide s;
+  for (int x = 20; x <= 400; x += 4) {
+    const double arc = 150 + 40 * std::sin((x - 20) * M_PI / 380);
+    const double apart = x < 120 ? (120 - x) * 0.5 : x > 300 ? (x - 300) * 0.5 : 0;
+    s.a.emplace_back(x, static_cast<int>(std::lround(arc - wa / 2.0 - apart)));
+    if (x <= b_to_x) s.b.emplace_back(x, static_cast<int>(std::lround(arc + wb / 2.0 + apart)));
+  }
+  return s;
+}
+
 // Strict matched DICE of `pred` (CV_16U labels) against instance masks `gt` (CV_8U, non-zero
 // = the instance), by trying every assignment (fine for the few instances of a test).
 inline double strict_dice(const std::vector<cv::Mat>& gt, const cv::Mat& pred) {

@@ -91,6 +91,10 @@ struct DetectorConfig {
   // units, lightness counted half) than the colour of the DLO the pixel was drawn for, and
   // within three times this (instance_mask.h, refine_labels_by_colour). 0 turns it off.
   double colour_label_margin = 10.0;
+  // A branch carrying two strands side by side over at least this long (two DLOs lying
+  // along each other, or one ending along another) is split into one branch per strand
+  // (strands.h, split_side_by_side). Large values turn it off.
+  double side_by_side_radii = 3.0;
 };
 
 // Reads a DetectorConfig from a JSON object of the fields above (all optional). Unknown

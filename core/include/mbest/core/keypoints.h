@@ -3,6 +3,7 @@
 // junction pixels within 2 px of each other form one junction (the paper's DBSCAN, eps 2).
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -36,6 +37,10 @@ struct Branch {
   int node[2] = {-1, -1};     // node at side 0 (before pixels.front()) and side 1
   bool alive = true;
   double length = 0;  // arc length in px from node to node
+  // The branch lying beside this one between the same two nodes, where one branch carrying
+  // two strands side by side was split in two (strands.h); -1 otherwise. Twins are never
+  // the link that makes two crossings one: each carries its own strand from one to the other.
+  int twin = -1;
 };
 
 struct SkeletonGraph {
@@ -68,6 +73,15 @@ float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride = 4);
 // Radius along a pixel chain: distance_to_background every `stride` pixels (and at the
 // last), linearly interpolated between.
 std::vector<float> sample_radius(const std::vector<cv::Point>& chain, const cv::Mat& mask, int stride);
+
+// Distance in pixels from `p` to just outside the nearest border of an image of size `image`.
+inline int distance_to_border(cv::Point p, cv::Size image) {
+  return 1 + std::min(std::min(p.x, p.y), std::min(image.width - 1 - p.x, image.height - 1 - p.y));
+}
+
+// Does branch `b` run out of an image of size `image` at its end `side`: is the border no
+// farther from its end node than the mask's edge (the radius there, plus a pixel)?
+bool leaves_image(const SkeletonGraph& graph, const Branch& b, int side, cv::Size image);
 
 // Arc length of an 8-connected pixel chain (1 per straight step, sqrt 2 per diagonal).
 double chain_length(const std::vector<cv::Point>& pixels);
