@@ -21,18 +21,20 @@ inline constexpr double kSideBySideShare = 0.4;
 
 // Splits every branch that carries two strands side by side out of a Y (a junction of three
 // branches whose two narrow branches both run on into the wide one, within 60 degrees):
-// - when the band stays two strands wide up to the branch's far junction, or to the image
-//   border, the branch becomes two, side by side, between the same two nodes (a new end
-//   node at the border); each is marked as the other's `twin`;
-// - when it narrows to one strand and stays so up to the far node, one strand ends there:
-//   the branch becomes the strand running on (offset to its side up to the narrowing, then
-//   the old pixels) and a new branch from the Y to a new end node at the narrowing;
-// - when it narrows and widens again, the two strands cross there, and it is left as it
-//   is (two Ys joined by a branch: junctions.h pairs them).
-// The band must be two strands wide over at least `min_length` px (a junction's own bulge
-// is not). A strand's pixels are the middle ones moved sideways by the band's half width
-// less the strand's radius (the radius of its branch at the Y), within the mask; its
-// radius is the strand's own. `image` is the mask's size. Returns the branches split.
+// - when the band stays two strands wide up to a Y where the two part again, or to the
+//   image border, the branch becomes two, side by side, between the same two nodes (a new
+//   end node at the border); each is marked as the other's `twin`;
+// - when it narrows to one strand and stays so well past that (6 strand radii) up to a node
+//   other than such a Y, one strand ends there: the branch becomes the strand running on
+//   (moved to its side up to the narrowing, then the old pixels) and a new branch runs from
+//   the Y to a new end node at the narrowing;
+// - otherwise it is left as it is: narrowing and widening again is where the two strands
+//   cross (two Ys joined by a branch, which junctions.h pairs), and a band that runs into a
+//   larger crossing or ends in the mask is not told apart from one wide DLO.
+// The band must be two strands wide over at least `min_length` px past the Y's bulge. A
+// strand's pixels are the middle ones moved sideways by the band's half width less the
+// strand's radius (that of its branch next to the Y), within `mask` (CV_8UC1); its radius
+// is the strand's own. Returns the branches split.
 int split_side_by_side(SkeletonGraph& graph, const cv::Mat& mask, double min_length);
 
 }  // namespace mbest
