@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include <opencv2/imgproc.hpp>
@@ -19,30 +20,63 @@ cv::Point2f unit(cv::Point2f v) {
   return n > 0 ? v * (1.0f / n) : cv::Point2f(0, 0);
 }
 
-// Exhaustive search over pairings; `left` = exits not yet paired, `singles` = how many may
-// stay unpaired.
-void search(const std::vector<std::vector<double>>& e, std::vector<int>& left, int singles,
-            double cost, std::vector<std::pair<int, int>>& cur, double& best_cost,
-            std::vector<std::pair<int, int>>& best) {
-  if (cost >= best_cost) return;
-  if (left.empty()) {
-    best_cost = cost;
-    best = cur;
-    return;
+// The least-cost pairing of up to 32 exits by branch and bound: the lowest exit not yet
+// paired is paired with each other in order of cost (or left unpaired, once, for an odd
+// count), and a branch is cut when its cost plus half the cheapest pair of every exit left
+// cannot beat the best pairing found. The first pairing found is the greedy one (each exit
+// with its cheapest partner left), so after kMaxPairingSearch steps the best so far is
+// kept: a bound on the time a tangle of many exits may take.
+class PairingSearch {
+ public:
+  explicit PairingSearch(const std::vector<std::vector<double>>& e)
+      : e_(e), by_cost_(e.size()), half_cheapest_(e.size(), 0) {
+    const int n = static_cast<int>(e.size());
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j)
+        if (j != i) by_cost_[i].push_back(j);
+      std::sort(by_cost_[i].begin(), by_cost_[i].end(), [&](int a, int b) { return e[i][a] < e[i][b]; });
+      if (!by_cost_[i].empty()) half_cheapest_[i] = 0.5 * e[i][by_cost_[i][0]];
+    }
+    const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
+    run(all, n % 2, 0);
   }
-  const int a = left.back();
-  left.pop_back();
-  for (size_t k = 0; k < left.size(); ++k) {
-    const int b = left[k];
-    left.erase(left.begin() + static_cast<long>(k));
-    cur.emplace_back(a, b);
-    search(e, left, singles, cost + e[a][b], cur, best_cost, best);
-    cur.pop_back();
-    left.insert(left.begin() + static_cast<long>(k), b);
+  const std::vector<std::pair<int, int>>& best() const { return best_; }
+
+ private:
+  static constexpr long kMaxPairingSearch = 200000;
+
+  void run(uint32_t left, int singles, double cost) {
+    if (++steps_ > kMaxPairingSearch && !best_.empty()) return;
+    if (!left) {
+      if (cost < best_cost_) best_cost_ = cost, best_ = pairs_;
+      return;
+    }
+    double bound = cost, dearest = 0;
+    for (uint32_t m = left; m; m &= m - 1) {
+      const double h = half_cheapest_[__builtin_ctz(m)];
+      bound += h;
+      dearest = std::max(dearest, h);
+    }
+    if (singles) bound -= dearest;  // the one left unpaired pays nothing
+    if (bound >= best_cost_) return;
+    const int i = __builtin_ctz(left);
+    const uint32_t rest = left & ~(1u << i);
+    for (int j : by_cost_[i]) {
+      if (!(rest >> j & 1)) continue;
+      pairs_.emplace_back(i, j);
+      run(rest & ~(1u << j), singles, cost + e_[i][j]);
+      pairs_.pop_back();
+    }
+    if (singles) run(rest, singles - 1, cost);
   }
-  if (singles > 0) search(e, left, singles - 1, cost, cur, best_cost, best);
-  left.push_back(a);
-}
+
+  const std::vector<std::vector<double>>& e_;
+  std::vector<std::vector<int>> by_cost_;  // per exit, the others, cheapest first
+  std::vector<double> half_cheapest_;
+  double best_cost_ = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<int, int>> pairs_, best_;
+  long steps_ = 0;
+};
 
 // For each graph node, the index of the region holding it (-1: none).
 std::vector<int> region_of_nodes(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions) {
@@ -271,15 +305,8 @@ std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTang
     for (int b = a + 1; b < n; ++b)
       e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], colour_weight);
 
+  if (n <= kMaxExactExits) return PairingSearch(e).best();
   std::vector<std::pair<int, int>> best;
-  if (n <= 10) {
-    std::vector<int> left(n);
-    for (int i = 0; i < n; ++i) left[i] = i;
-    std::vector<std::pair<int, int>> cur;
-    double best_cost = std::numeric_limits<double>::infinity();
-    search(e, left, n % 2, 0, cur, best_cost, best);
-    return best;
-  }
   std::vector<std::pair<double, std::pair<int, int>>> all;
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) all.push_back({e[a][b], {a, b}});
@@ -326,8 +353,30 @@ std::vector<BranchTangent> TangentCache::of(const std::vector<BranchEnd>& exits)
 }
 
 double TangentCache::least_cost(const std::vector<BranchEnd>& exits) {
+  std::vector<int> key;
+  for (const BranchEnd& e : exits) key.push_back(2 * e.branch + e.side);
+  std::sort(key.begin(), key.end());
+  const auto known = least_costs_.find(key);
+  if (known != least_costs_.end()) return known->second;
   const std::vector<BranchTangent> t = of(exits);
-  return pairing_cost(t, min_energy_pairing(t, setup_.colour_weight), setup_.colour_weight);
+  const double cost = pairing_cost(t, min_energy_pairing(t, setup_.colour_weight), setup_.colour_weight);
+  least_costs_.emplace(std::move(key), cost);
+  return cost;
+}
+
+double TangentCache::least_cost_bound(const std::vector<BranchEnd>& exits) {
+  const std::vector<BranchTangent> t = of(exits);
+  const size_t n = t.size();
+  double sum = 0, dearest = 0;
+  for (size_t i = 0; i < n; ++i) {
+    double cheapest = std::numeric_limits<double>::infinity();
+    for (size_t j = 0; j < n; ++j)
+      if (j != i) cheapest = std::min(cheapest, pair_cost(t[i], t[j], setup_.colour_weight));
+    if (n < 2) cheapest = 0;
+    sum += cheapest;
+    dearest = std::max(dearest, cheapest);
+  }
+  return 0.5 * (n % 2 ? sum - dearest : sum);
 }
 
 std::vector<BranchTangent> exit_tangents(const SkeletonGraph& g, const std::vector<BranchEnd>& exits,
@@ -429,14 +478,16 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       // Two strands end there, one each: joining would pair them (pair_lone_ys).
       if (a.exits.size() % 2 && c.exits.size() % 2) continue;
       std::vector<BranchEnd> exits = joined_exits(a, c, i);
-      if (exits.size() < 4 || exits.size() > 10) continue;
+      if (exits.size() < 4 || exits.size() > kMaxExactExits) continue;
       for (int r : {ra, rb})
         if (cost[r] < 0) cost[r] = cache.least_cost(regions[r].exits);
-      // Costs are never negative: regions that pair well alone cannot gain enough.
-      if (cost[ra] + cost[rb] <= best_gain) continue;
       // A wide link must gain three times as much: past max_link the strands at its two
-      // ends are far apart, and a pairing cost is a weaker cue there.
-      const double gain = cost[ra] + cost[rb] - cache.least_cost(exits) - (wide ? 2 * min_gain : 0);
+      // ends are far apart, and a pairing cost is a weaker cue there. Joining cannot gain
+      // more than its cost's lower bound allows: regions that pair well alone, or a joined
+      // set whose exits all pair dearly, are not worth pairing exactly.
+      const double alone = cost[ra] + cost[rb] - (wide ? 2 * min_gain : 0);
+      if (alone - cache.least_cost_bound(exits) <= best_gain) continue;
+      const double gain = alone - cache.least_cost(exits);
       if (gain > best_gain) {
         best_gain = gain;
         best_link = i;
@@ -480,7 +531,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     const CrossingRegion &a = regions[ra], &c = regions[rb];
     if (a.exits.size() % 2 == 0 || c.exits.size() % 2 == 0) continue;
     std::vector<BranchEnd> exits = joined_exits(a, c, i);
-    if (exits.size() > 10) continue;
+    if (exits.size() > kMaxExactExits) continue;
     const std::vector<BranchTangent> t = cache.of(exits);
     const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, setup.colour_weight);
     // Either the strands each Y leaves ending continue each other (together, the two ends

@@ -1,4 +1,6 @@
 #include "mbest/core/junctions.h"
+
+#include "mbest/core/bending.h"
 #include "mbest/core/median.h"
 
 #include <algorithm>
@@ -10,7 +12,7 @@ namespace mbest {
 namespace {
 
 // Pairings of more exits are greedy (bending.h), their costs no fair comparison.
-constexpr size_t kMaxExhaustiveExits = 10;
+constexpr size_t kMaxExhaustiveExits = kMaxExactExits;
 constexpr double kUnknownCost = std::numeric_limits<double>::infinity();
 
 struct UnionFind {

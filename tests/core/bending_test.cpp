@@ -1,6 +1,8 @@
 #include "mbest/core/bending.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <initializer_list>
 
 #include <gtest/gtest.h>
@@ -95,6 +97,53 @@ TEST(Bending, SixExitsOfThreeStrandsThroughOnePoint) {
   auto pairs = min_energy_pairing(exits);
   ASSERT_EQ(pairs.size(), 3u);
   for (auto [i, j] : pairs) EXPECT_EQ(std::abs(i - j), 3);
+}
+
+// The least total cost over every pairing of `left` (one may stay unpaired when `singles`),
+// by plain enumeration.
+double brute_force_cost(const std::vector<BranchTangent>& t, std::vector<int> left, int singles) {
+  if (left.empty()) return 0;
+  const int a = left.back();
+  left.pop_back();
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < left.size(); ++k) {
+    std::vector<int> rest = left;
+    rest.erase(rest.begin() + static_cast<long>(k));
+    best = std::min(best, pair_cost(t[a], t[left[k]], 0) + brute_force_cost(t, rest, singles));
+  }
+  if (singles) best = std::min(best, brute_force_cost(t, left, 0));
+  return best;
+}
+
+TEST(Bending, PairingOfManyExitsIsTheLeastCostOne) {
+  // A tangle of 11 to 13 exits with random directions and positions: the pairing costs as
+  // little as any (a greedy pairing, cheapest pair first, often costs more).
+  cv::RNG rng(20261202);
+  int greedy_worse = 0;
+  for (int trial = 0; trial < 9; ++trial) {
+    const int n = 11 + trial % 3;
+    std::vector<BranchTangent> exits;
+    for (int k = 0; k < n; ++k) exits.push_back(exit_at(rng.uniform(0.0, 360.0), rng.uniform(5.0, 30.0)));
+    std::vector<int> all(n);
+    for (int k = 0; k < n; ++k) all[k] = k;
+    const double least = brute_force_cost(exits, all, n % 2);
+    const auto pairs = min_energy_pairing(exits);
+    EXPECT_EQ(pairs.size(), static_cast<size_t>(n / 2));
+    EXPECT_NEAR(pairing_cost(exits, pairs, 0), least, 1e-9) << "trial " << trial;
+    std::vector<std::pair<double, std::pair<int, int>>> by_cost;
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b) by_cost.push_back({pair_cost(exits[a], exits[b], 0), {a, b}});
+    std::sort(by_cost.begin(), by_cost.end());
+    std::vector<bool> used(n, false);
+    double greedy = 0;
+    for (const auto& [c, p] : by_cost)
+      if (!used[p.first] && !used[p.second]) {
+        used[p.first] = used[p.second] = true;
+        greedy += c;
+      }
+    greedy_worse += greedy > least + 1e-9;
+  }
+  EXPECT_GT(greedy_worse, 0) << "the tangles should be ones a greedy pairing gets wrong";
 }
 
 TEST(Bending, OddExitCountLeavesTheEndingStrandUnpaired) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <limits>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -80,8 +81,10 @@ double colour_distance(const cv::Vec3f& a, const cv::Vec3f& b);
 
 // The pairing of exits (indices into `exits`) with the least total cost: bending energy
 // plus `colour_weight` times the colour penalty. With an odd number of exits one is left
-// unpaired (the strand that ends there). Exhaustive up to 10 exits (945 pairings), greedy
-// beyond.
+// unpaired (the strand that ends there). Up to kMaxExactExits exits, by branch and bound:
+// exact, but for a tangle so even in its costs that the search runs out of steps (it keeps
+// the best pairing found, the greedy one at worst); greedy (cheapest pair first) beyond.
+inline constexpr int kMaxExactExits = 24;
 std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
                                                     double colour_weight = 0);
 
@@ -127,8 +130,12 @@ class TangentCache {
  public:
   TangentCache(const SkeletonGraph& graph, const PairingSetup& setup);
   std::vector<BranchTangent> of(const std::vector<BranchEnd>& exits);
-  // The cost of the least-cost pairing of `exits` (min_energy_pairing, pairing_cost).
+  // The cost of the least-cost pairing of `exits` (min_energy_pairing, pairing_cost), once
+  // per set of exits: junction grouping and region merging ask for the same sets again.
   double least_cost(const std::vector<BranchEnd>& exits);
+  // A lower bound of least_cost, in O(n^2): every exit pays at least half its cheapest pair
+  // (but one, when their count is odd).
+  double least_cost_bound(const std::vector<BranchEnd>& exits);
   const PairingSetup& setup() const { return setup_; }
   const SkeletonGraph& graph() const { return graph_; }
 
@@ -137,6 +144,7 @@ class TangentCache {
   const PairingSetup& setup_;
   std::vector<BranchTangent> tangents_;
   std::vector<bool> done_;
+  std::map<std::vector<int>, double> least_costs_;  // by sorted 2 * branch + side
 };
 
 // Two regions with odd exit counts (each leaves one strand ending there) joined by a branch
