@@ -43,7 +43,7 @@ class PairingSearch {
   const std::vector<std::pair<int, int>>& best() const { return best_; }
 
  private:
-  static constexpr long kMaxPairingSearch = 200000;
+  static constexpr long kMaxPairingSearch = 50000;
 
   void run(uint32_t left, int singles, double cost) {
     if (++steps_ > kMaxPairingSearch && !best_.empty()) return;
@@ -297,14 +297,11 @@ double pairing_cost(const std::vector<BranchTangent>& exits,
   return cost;
 }
 
-std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
-                                                    double colour_weight) {
-  const int n = static_cast<int>(exits.size());
-  std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
-  for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b)
-      e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], colour_weight);
+namespace {
 
+// The least-cost pairing for the symmetric pair costs `e` (min_energy_pairing).
+std::vector<std::pair<int, int>> least_cost_pairing(const std::vector<std::vector<double>>& e) {
+  const int n = static_cast<int>(e.size());
   if (n <= kMaxExactExits) return PairingSearch(e).best();
   std::vector<std::pair<int, int>> best;
   std::vector<std::pair<double, std::pair<int, int>>> all;
@@ -318,6 +315,18 @@ std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTang
       best.push_back(p);
     }
   return best;
+}
+
+}  // namespace
+
+std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
+                                                    double colour_weight) {
+  const int n = static_cast<int>(exits.size());
+  std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], colour_weight);
+  return least_cost_pairing(e);
 }
 
 }  // namespace mbest
@@ -352,27 +361,44 @@ std::vector<BranchTangent> TangentCache::of(const std::vector<BranchEnd>& exits)
   return out;
 }
 
+std::vector<std::vector<double>> TangentCache::pair_costs(const std::vector<BranchEnd>& exits) {
+  const std::vector<BranchTangent> t = of(exits);
+  const size_t n = exits.size();
+  std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = a + 1; b < n; ++b) {
+      const uint64_t ka = 2 * static_cast<uint64_t>(exits[a].branch) + exits[a].side;
+      const uint64_t kb = 2 * static_cast<uint64_t>(exits[b].branch) + exits[b].side;
+      const uint64_t key = std::min(ka, kb) << 32 | std::max(ka, kb);
+      auto known = pair_costs_.find(key);
+      if (known == pair_costs_.end())
+        known = pair_costs_.emplace(key, pair_cost(t[a], t[b], setup_.colour_weight)).first;
+      e[a][b] = e[b][a] = known->second;
+    }
+  return e;
+}
+
 double TangentCache::least_cost(const std::vector<BranchEnd>& exits) {
   std::vector<int> key;
   for (const BranchEnd& e : exits) key.push_back(2 * e.branch + e.side);
   std::sort(key.begin(), key.end());
   const auto known = least_costs_.find(key);
   if (known != least_costs_.end()) return known->second;
-  const std::vector<BranchTangent> t = of(exits);
-  const double cost = pairing_cost(t, min_energy_pairing(t, setup_.colour_weight), setup_.colour_weight);
+  const std::vector<std::vector<double>> e = pair_costs(exits);
+  double cost = 0;
+  for (const auto& [a, b] : least_cost_pairing(e)) cost += e[a][b];
   least_costs_.emplace(std::move(key), cost);
   return cost;
 }
 
 double TangentCache::least_cost_bound(const std::vector<BranchEnd>& exits) {
-  const std::vector<BranchTangent> t = of(exits);
-  const size_t n = t.size();
+  const std::vector<std::vector<double>> e = pair_costs(exits);
+  const size_t n = e.size();
   double sum = 0, dearest = 0;
   for (size_t i = 0; i < n; ++i) {
-    double cheapest = std::numeric_limits<double>::infinity();
+    double cheapest = n < 2 ? 0 : std::numeric_limits<double>::infinity();
     for (size_t j = 0; j < n; ++j)
-      if (j != i) cheapest = std::min(cheapest, pair_cost(t[i], t[j], setup_.colour_weight));
-    if (n < 2) cheapest = 0;
+      if (j != i) cheapest = std::min(cheapest, e[i][j]);
     sum += cheapest;
     dearest = std::max(dearest, cheapest);
   }

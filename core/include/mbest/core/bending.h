@@ -3,8 +3,10 @@
 // paths bend least (the paper's Sec. III-F, extended from 4 exits to any number).
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <map>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -145,6 +147,9 @@ class TangentCache {
   std::vector<BranchTangent> tangents_;
   std::vector<bool> done_;
   std::map<std::vector<int>, double> least_costs_;  // by sorted 2 * branch + side
+  std::unordered_map<uint64_t, double> pair_costs_;  // by the pair's two 2 * branch + side
+  // pair_cost of every two of `exits`, each pair computed once.
+  std::vector<std::vector<double>> pair_costs(const std::vector<BranchEnd>& exits);
 };
 
 // Two regions with odd exit counts (each leaves one strand ending there) joined by a branch
