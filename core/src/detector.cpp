@@ -290,6 +290,7 @@ constexpr ConfigField kConfigFields[] = {
     {"merge_radii", &DetectorConfig::merge_radii, 0, 100},
     {"epsilon_radii", &DetectorConfig::epsilon_radii, 0, 1000},
     {"wide_radii", &DetectorConfig::wide_radii, 0, 1000},
+    {"through_radii", &DetectorConfig::through_radii, 0, 1000},
     {"colour_weight", &DetectorConfig::colour_weight, 0, 100},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
@@ -373,7 +374,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   TangentCache tangents(graph, pairing);
   auto regions = stage("junctions", [&] {
     return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,
-                           config.wide_radii * r,
+                           config.wide_radii * r, config.through_radii * r,
                            [&](const std::vector<BranchEnd>& exits) { return tangents.least_cost(exits); });
   });
   auto passages = stage("bending", [&] {

@@ -59,13 +59,14 @@ namespace {
 // Ys still unpaired after Y-pair matching whose joining path runs through other crossings:
 // a loop or a third strand lying across a shallow crossing splits one topological crossing
 // into a Y, an X and a Y. Each Y alone would end a strand in the middle of the mask. The
-// crossings along the shortest such path through even crossings, up to `wide_length` long,
-// are one crossing. Unlike a single joining branch (two Ys 10-30 r apart may be two
+// crossings along the shortest such path through even crossings, up to `through_length`
+// long, are one crossing. Unlike a single joining branch (two Ys 10-30 r apart may be two
 // T-junctions), a crossing in between is itself evidence of one cluster: on 400 dev scenes
-// the 30 r limit beat 10 r, and 10 r plus 30 r along wide branches, on every preset.
+// the 30 r limit beat 10 r, and 10 r plus 30 r along wide branches, on every preset (and
+// 40 r did worse than 30 r on 1600 fresh ones).
 // Closest pairs first, each Y once. `degree` is kept up to date for the union-find roots.
 void pair_ys_through_crossings(SkeletonGraph& g, UnionFind& uf, std::vector<int>& degree,
-                               double epsilon, double wide_length) {
+                               double epsilon, double through_length) {
   const int n_nodes = static_cast<int>(g.nodes.size());
   // Junction-to-junction branches between different crossings, by crossing (root).
   std::vector<std::vector<int>> incident(n_nodes);
@@ -124,7 +125,7 @@ void pair_ys_through_crossings(SkeletonGraph& g, UnionFind& uf, std::vector<int>
   };
   for (int start = 0; start < n_nodes; ++start) {
     if (uf.find(start) != start || degree[start] % 2 == 0 || incident[start].empty()) continue;
-    search(start, std::max(epsilon, wide_length));
+    search(start, std::max(epsilon, through_length));
   }
   std::stable_sort(paths.begin(), paths.end(),
                    [](const Path& a, const Path& b) { return a.length < b.length; });
@@ -155,7 +156,8 @@ void pair_ys_through_crossings(SkeletonGraph& g, UnionFind& uf, std::vector<int>
 }  // namespace
 
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_length, double epsilon,
-                                            double wide_length, const ExitsCost& pairing_cost) {
+                                            double wide_length, double through_length,
+                                            const ExitsCost& pairing_cost) {
   const int n_nodes = static_cast<int>(g.nodes.size());
   UnionFind uf(n_nodes);
   auto make_inner = [&](Branch& b) { b.alive = false; };
@@ -240,7 +242,7 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
     make_inner(b);
   }
   degree_of(degree);
-  pair_ys_through_crossings(g, uf, degree, epsilon, wide_length);
+  pair_ys_through_crossings(g, uf, degree, epsilon, through_length);
 
   std::vector<int> region_of(n_nodes, -1);
   std::vector<CrossingRegion> regions;

@@ -20,7 +20,7 @@ std::vector<CrossingRegion> regions_of(const cv::Mat& mask, bool by_cost = true)
   TangentCache tangents(g, setup);
   ExitsCost cost;
   if (by_cost) cost = [&](const std::vector<BranchEnd>& exits) { return tangents.least_cost(exits); };
-  return group_junctions(g, r, 10 * r, 30 * r, cost);
+  return group_junctions(g, r, 10 * r, 40 * r, 30 * r, cost);
 }
 
 

@@ -59,7 +59,10 @@ struct DetectorConfig {
   double fit_radii = 3.0;    // stretch of branch a crossing tangent is fitted to
   double merge_radii = 2.0;  // junctions joined by a shorter branch are one crossing
   double epsilon_radii = 10.0;  // Ys joined by a shorter branch are one crossing (paper)
-  double wide_radii = 30.0;  // ... or by a branch up to this long, if it is wider than a DLO
+  double wide_radii = 40.0;  // ... or by a branch up to this long, if it is wider than a DLO
+  // Ys joined through other crossings by a path up to this long are one crossing with them
+  // (junctions.h, step 4).
+  double through_radii = 30.0;
   // With the colour image: how much a colour change between two exits of a crossing weighs
   // against pairing them (bending.h, colour_penalty). 0 = geometry alone, as in the paper.
   // At 4, pairing two exits of clearly different colours (30 Lab units apart) costs 16,
@@ -75,7 +78,7 @@ struct DetectorConfig {
   // a pairing cost (bending energy plus colour) of at most this (bending.h, pair_lone_ys):
   // a thin DLO passing along a wide one at a shallow angle; or when both strands run
   // through the two Ys, each pair at most this. 0 turns it off.
-  double lone_y_cost = 2.0;
+  double lone_y_cost = 4.0;
   // A junction left with two exits (a bend the skeleton made into a junction, a split end
   // pruned) joins them into one strand unless that path folds back with more bending energy
   // than this (about a 140 degree turn): an elastic rod does not fold at a point, but two

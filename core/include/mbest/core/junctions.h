@@ -36,7 +36,7 @@ struct CrossingRegion {
 //    where a crossing has more than 10 exits).
 // 4. Ys still unpaired whose joining path runs through other crossings (a third strand
 //    across a shallow crossing makes a Y, an X and a Y) are one crossing with those between
-//    them, when the path is no longer than `wide_length`.
+//    them, when the path is no longer than `through_length`.
 // Branches made inner are marked dead in `graph`.
 // Where two strands overlap or lie side by side, the mask is wider than either: a branch
 // whose radius is at least this many times that of the branches around it carries two.
@@ -51,6 +51,7 @@ using ExitsCost = std::function<double(const std::vector<BranchEnd>& exits)>;
 
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& graph, double merge_length,
                                             double epsilon, double wide_length,
+                                            double through_length,
                                             const ExitsCost& pairing_cost = {});
 
 }  // namespace mbest
