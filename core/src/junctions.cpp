@@ -11,8 +11,8 @@
 namespace mbest {
 namespace {
 
-// Pairings of more exits are greedy (bending.h), their costs no fair comparison.
-constexpr size_t kMaxExhaustiveExits = kMaxExactExits;
+// The cost of pairing a set of exits too large to pair exactly (bending.h, kMaxExactExits):
+// a greedy pairing's cost is no fair comparison.
 constexpr double kUnknownCost = std::numeric_limits<double>::infinity();
 
 struct UnionFind {
@@ -192,7 +192,7 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
 
   // Y-pair matching: odd crossings joined by one branch, each paired once: cheapest first by
   // what joining adds to the cost of pairing their exits, given a cost; shortest first
-  // otherwise and among pairs with a crossing too large to pair exhaustively.
+  // otherwise and among pairs with a crossing too large to pair exactly.
   std::vector<int> order;
   for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
     const Branch& b = g.branches[i];
@@ -218,7 +218,7 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
       return exits;
     };
     const auto cost_of = [&](const std::vector<BranchEnd>& exits) {
-      return exits.size() <= kMaxExhaustiveExits ? pairing_cost(exits) : kUnknownCost;
+      return exits.size() <= static_cast<size_t>(kMaxExactExits) ? pairing_cost(exits) : kUnknownCost;
     };
     std::vector<double> added(g.branches.size(), kUnknownCost);
     for (int i : order) {

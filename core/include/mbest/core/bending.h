@@ -170,10 +170,10 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 // only pair its exits wrongly. Two regions joined by a branch no longer than `max_link`
 // become one when pairing their exits together costs at least `min_gain` less than pairing
 // each alone (the link becomes inner and is marked dead); best gain first, repeated while
-// one qualifies, up to 10 exits. A link longer than that, up to `wide_link`, qualifies too
-// when it is wider than the branches around it (wider_than_neighbours over `wide_reach` px:
-// two strands lying side by side, as a twisted pair's), if the gain is three times
-// `min_gain`. At most one of the two may have an odd exit count (a DLO ends there, e.g. on
+// one qualifies, up to kMaxExactExits exits. A link longer than that, up to `wide_link`,
+// qualifies too when it is wider than the branches around it (wider_than_neighbours over
+// `wide_reach` px: two strands lying side by side, as a twisted pair's), if the gain is
+// three times `min_gain`. At most one of the two may have an odd exit count (a DLO ends there, e.g. on
 // the crossing of two others): the joined region then leaves one exit unpaired too, so the
 // costs compare like with like; two odd ones are pair_lone_ys's case. Returns the merges
 // made.

@@ -33,7 +33,7 @@ struct CrossingRegion {
 //    to the cost of pairing their exits (a Y alone leaves one strand ending, free; joined,
 //    the two such strands must pair): of two Ys a Y could be paired with, the one whose
 //    strands continue its own. Closest first without it, as the paper (and among pairs
-//    where a crossing has more than 10 exits).
+//    where a crossing has more exits than bending.h pairs exactly).
 // 4. Ys still unpaired whose joining path runs through other crossings (a third strand
 //    across a shallow crossing makes a Y, an X and a Y) are one crossing with those between
 //    them, when the path is no longer than `through_length`.
