@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <numeric>
 
 #include <opencv2/imgproc.hpp>
 
@@ -117,7 +118,16 @@ cv::Mat instance_labels(const cv::Mat& mask, const std::vector<Dlo>& dlos,
     queue[tail] = i;
     tail += take;
   };
-  for (size_t d = 0; d < dlos.size(); ++d)
+  // Fronts advance one layer at a time, in the order they were seeded, so a pixel as far
+  // from two centerlines goes to the DLO seeded first. Seeding the longest first (not in id
+  // order, which follows the traversal and so the image's orientation) makes that tie rule
+  // the same when the picture is rotated or mirrored; on the dev set it scores the same.
+  std::vector<size_t> seeding(dlos.size());
+  std::iota(seeding.begin(), seeding.end(), size_t{0});
+  std::stable_sort(seeding.begin(), seeding.end(), [&](size_t a, size_t b) {
+    return dlos[a].centerline.size() > dlos[b].centerline.size();
+  });
+  for (size_t d : seeding)
     for (const cv::Point& p : dlos[d].centerline)
       if (in_image(p)) claim(index(p), static_cast<uint16_t>(d + 1));
   for (size_t head = 0; head < tail; ++head) {
