@@ -15,11 +15,6 @@
 namespace mbest {
 namespace {
 
-cv::Point2f unit(cv::Point2f v) {
-  const float n = std::hypot(v.x, v.y);
-  return n > 0 ? v * (1.0f / n) : cv::Point2f(0, 0);
-}
-
 // The least-cost pairing of up to 32 exits by branch and bound: the lowest exit not yet
 // paired is paired with each other in order of cost (or left unpaired, once, for an odd
 // count), and a branch is cut when its cost plus half the cheapest pair of every exit left

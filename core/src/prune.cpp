@@ -4,15 +4,11 @@
 #include <cmath>
 
 #include "mbest/core/bending.h"
+#include "mbest/core/geometry.h"
 
 namespace mbest {
 
 namespace {
-
-cv::Point2f unit(cv::Point2f v) {
-  const float n = std::hypot(v.x, v.y);
-  return n > 0 ? v * (1.0f / n) : v;
-}
 
 // The pixel `reach` px along branch end `e` from its node (or the branch's far end).
 cv::Point2f along(const Branch& b, int side, double reach) {

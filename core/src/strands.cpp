@@ -10,11 +10,6 @@
 namespace mbest {
 namespace {
 
-cv::Point2f unit(cv::Point2f v) {
-  const float n = std::hypot(v.x, v.y);
-  return n > 0 ? v * (1.0f / n) : v;
-}
-
 float cross(cv::Point2f a, cv::Point2f b) { return a.x * b.y - a.y * b.x; }
 
 // A branch seen from one of its ends: pixel and radius k counted from that end.
