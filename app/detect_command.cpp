@@ -2,7 +2,6 @@
 // an instance label PNG, a JSON of centerlines and crossings, and optionally an overlay.
 #include <algorithm>
 #include <atomic>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -26,9 +25,6 @@
 namespace mbest::app {
 namespace fs = std::filesystem;
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_interrupt(int) { g_interrupted = true; }
 
 bool is_image(const fs::path& p) {
   std::string ext = p.extension().string();
@@ -173,15 +169,14 @@ int run(Options o) {
     std::cerr << "mbest detect: " << s.error().message << "\n";
     return 2;
   }
-  std::signal(SIGINT, on_interrupt);
-  std::signal(SIGTERM, on_interrupt);
+  const std::atomic<bool>& interrupted = catch_interrupts();
 
   const auto& list = inputs.value();
   const bool progress = list.size() > 1 && !o.quiet;
   const bool tty = ::isatty(STDERR_FILENO);  // redraw one line, or log every tenth
   nlohmann::json records = nlohmann::json::array();
   int failed = 0;
-  for (size_t i = 0; i < list.size() && !g_interrupted; ++i) {
+  for (size_t i = 0; i < list.size() && !interrupted; ++i) {
     Result<nlohmann::json> r = process(list[i], o, mask_is_folder);
     if (!r) {
       ++failed;
@@ -197,7 +192,7 @@ int run(Options o) {
                 << (tty ? "\033[K" : "\n") << std::flush;
   }
   if (progress && tty) std::cerr << "\n";
-  if (g_interrupted) std::cerr << "mbest detect: interrupted; the images finished so far are complete\n";
+  if (interrupted) std::cerr << "mbest detect: interrupted; the images finished so far are complete\n";
 
   if (!o.timings.empty()) {
     std::vector<double> totals;
@@ -218,7 +213,7 @@ int run(Options o) {
   if (!o.quiet)
     std::cerr << "mbest detect: " << records.size() << " image(s) written to " << o.out
               << (failed ? ", " + std::to_string(failed) + " failed" : "") << "\n";
-  if (g_interrupted) return 130;
+  if (interrupted) return 130;
   return failed ? 1 : 0;
 }
 

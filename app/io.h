@@ -1,6 +1,8 @@
-// File helpers of the mbest executable. Outputs are written with mbest/core/atomic_file.h.
+// File and process helpers of the mbest executable. Outputs are written with
+// mbest/core/atomic_file.h.
 #pragma once
 
+#include <atomic>
 #include <string>
 
 #include "mbest/core/result.h"
@@ -9,5 +11,9 @@ namespace mbest::app {
 
 // Creates `dir` and its parents; the error names the folder.
 Status make_dirs(const std::string& dir);
+
+// From the first call on, SIGINT and SIGTERM no longer end the process: they set the flag
+// returned, which long runs check between items so that what they write stays whole.
+const std::atomic<bool>& catch_interrupts();
 
 }  // namespace mbest::app

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "io.h"
 #include "mbest/synth/config.h"
 #include "mbest/synth/dataset.h"
 
@@ -61,6 +62,7 @@ int run_synth(const SynthArgs& args) {
   options.out = args.out;
   options.split = args.split;
   options.jobs = args.jobs;
+  options.stop = &catch_interrupts();
   const auto start = std::chrono::steady_clock::now();
   auto progress = [&](const synth::Progress& p) {
     if (args.quiet) return;
@@ -73,7 +75,7 @@ int run_synth(const SynthArgs& args) {
   if (!args.quiet) std::fprintf(stderr, "\n");
   if (!status) {
     std::cerr << "mbest synth: " << status.error().message << "\n";
-    return 1;
+    return *options.stop ? 130 : 1;
   }
   return 0;
 }

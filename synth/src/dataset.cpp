@@ -198,8 +198,9 @@ Status generate_dataset(const DatasetOptions& o, const std::function<void(const 
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
   Status first_error = ok_status();
+  const auto stopped = [&] { return o.stop && o.stop->load(); };
   auto worker = [&]() {
-    for (size_t k = next++; k < todo.size() && !failed; k = next++) {
+    for (size_t k = next++; k < todo.size() && !failed && !stopped(); k = next++) {
       Result<GeneratedScene> scene = generate_scene(o.config, o.seed, todo[k]);
       Status s = scene ? write_scene(scene.value(), o.config, split_dir.string()) : Status(scene.error());
       std::lock_guard<std::mutex> lock(mutex);
@@ -218,6 +219,10 @@ Status generate_dataset(const DatasetOptions& o, const std::function<void(const 
   worker();
   for (std::thread& t : threads) t.join();
   if (failed) return first_error;
+  if (stopped() && p.done < static_cast<int>(todo.size())) {
+    return Error{"interrupted: " + std::to_string(p.skipped + p.done) + " of " + std::to_string(p.total) +
+                 " scenes are written, each complete; the same command generates the rest"};
+  }
 
   for (int i = 0; i < o.count; ++i) {
     if (!fs::exists(split_dir / "annotations" / (scene_stem(i) + ".json"), ec)) return ok_status();

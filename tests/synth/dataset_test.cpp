@@ -1,6 +1,8 @@
 #include "mbest/synth/dataset.h"
 
+#include <atomic>
 #include <filesystem>
+#include <iterator>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -84,6 +86,34 @@ TEST_F(Dataset, ResumeRedoesOnlyUnfinishedScenesAndLeavesNoTemporaries) {
   EXPECT_EQ(last.skipped, 5);
   EXPECT_EQ(last.done, 1);
   EXPECT_EQ(files_of(o.out), before);  // same bytes, no .tmp left
+}
+
+TEST_F(Dataset, StopRequestEndsWithWholeScenesThatTheSameCallCompletes) {
+  DatasetOptions o = options("stopped", 2);
+  std::atomic<bool> stop{false};
+  o.stop = &stop;
+  // An interrupt arrives once two scenes are written.
+  Status s = generate_dataset(o, [&](const Progress& p) {
+    if (p.done == 2) stop = true;
+  });
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.error().message.find("interrupted"), std::string::npos) << s.error().message;
+  const fs::path split = fs::path(o.out) / "train";
+  const auto count = [&](const char* sub) {
+    return std::distance(fs::directory_iterator(split / sub), fs::directory_iterator{});
+  };
+  // Only whole scenes (the scenes already started when the flag was seen are finished),
+  // and no COCO file for an incomplete split.
+  EXPECT_GE(count("annotations"), 2);
+  EXPECT_LT(count("annotations"), 6);
+  EXPECT_EQ(count("images"), count("annotations"));
+  EXPECT_EQ(count("labels"), count("annotations"));
+  EXPECT_FALSE(fs::exists(split / "coco.json"));
+
+  stop = false;
+  ASSERT_TRUE(generate_dataset(o, nullptr));
+  ASSERT_TRUE(generate_dataset(options("whole", 1), nullptr));
+  EXPECT_EQ(files_of(o.out), files_of(root_ / "whole"));
 }
 
 TEST_F(Dataset, RefusesAnotherConfigInTheSameSplit) {

@@ -13,6 +13,7 @@
 // renamed, so an interrupted run leaves no half-written file under a real name.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -52,6 +53,10 @@ struct DatasetOptions {
   std::string split = "train";  // folder name under OUT
   int jobs = 1;
   int shard_index = 0, shard_count = 1;  // this run makes indices i with i % count == index
+  // When set and it turns true, workers start no further scene: those being written are
+  // finished, and generate_dataset returns an error saying how many are done. Running the
+  // same options again generates the rest.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct Progress {
@@ -62,7 +67,7 @@ struct Progress {
 
 // Generates the shard's scenes that are not done yet, calling `progress` (from worker
 // threads, serialised) after each. Errors: a dataset.json made with another config, seed
-// or count; unwritable folders; an unreadable background image.
+// or count; unwritable folders; an unreadable background image; a stop request.
 Status generate_dataset(const DatasetOptions& options,
                         const std::function<void(const Progress&)>& progress);
 
