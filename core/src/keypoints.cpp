@@ -93,7 +93,7 @@ SkeletonGraph build_skeleton_graph(Skeleton& skeleton, const Keypoints& kp) {
 
   auto add_branch = [&](Branch&& b) {
     const int id = static_cast<int>(g.branches.size());
-    b.length = chain_length(b.pixels) + (b.pixels.empty() ? 1.0 : 2.0);
+    b.length = branch_length(b.pixels);
     g.nodes[b.node[0]].branch_ends.push_back({id, 0});
     g.nodes[b.node[1]].branch_ends.push_back({id, 1});
     g.branches.push_back(std::move(b));

@@ -161,7 +161,7 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
     for (BranchEnd& e : g.nodes[head.node[1]].branch_ends)
       if (e == BranchEnd{static_cast<int>(bi), 1}) e = {second, 1};
     head.node[1] = first_end;
-    for (Branch* b : {&head, &tail}) b->length = chain_length(b->pixels) + (b->pixels.empty() ? 1.0 : 2.0);
+    for (Branch* b : {&head, &tail}) b->length = branch_length(b->pixels);
     g.nodes[first_end].branch_ends = {{static_cast<int>(bi), 1}};
     g.nodes[second_end].branch_ends = {{second, 0}};
     g.branches.push_back(std::move(tail));

@@ -96,8 +96,6 @@ bool strands_part(const SkeletonGraph& g, const Node& node, int band, cv::Point2
   return others == 2 && running_on == 2;
 }
 
-void set_length(Branch& b) { b.length = chain_length(b.pixels) + (b.pixels.empty() ? 1.0 : 2.0); }
-
 // Replaces `node`'s entry for branch end (branch, old_side) by (branch, new_side).
 void rename_end(Node& node, int branch, int old_side, int new_side) {
   for (BranchEnd& e : node.branch_ends)
@@ -293,8 +291,8 @@ int split_side_by_side(SkeletonGraph& g, const cv::Mat& mask, double min_length)
     const std::optional<Band> band = band_out_of(g, y, mask, min_length);
     if (!band) continue;
     if (!(band->full ? split_full(g, *band, mask) : split_partial(g, *band, mask))) continue;
-    set_length(g.branches[band->at_y.branch]);
-    set_length(g.branches.back());
+    for (Branch* b : {&g.branches[band->at_y.branch], &g.branches.back()})
+      b->length = branch_length(b->pixels);
     ++splits;
   }
   return splits;

@@ -86,4 +86,10 @@ bool leaves_image(const SkeletonGraph& graph, const Branch& b, int side, cv::Siz
 // Arc length of an 8-connected pixel chain (1 per straight step, sqrt 2 per diagonal).
 double chain_length(const std::vector<cv::Point>& pixels);
 
+// Branch::length for `pixels`: the chain plus a step from each node onto it (one step
+// between two adjacent nodes when the chain is empty).
+inline double branch_length(const std::vector<cv::Point>& pixels) {
+  return chain_length(pixels) + (pixels.empty() ? 1.0 : 2.0);
+}
+
 }  // namespace mbest
