@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -121,8 +123,25 @@ TEST_F(DetectCommand, MissingInputAndMissingArgument) {
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.output.find("no such file"), std::string::npos) << missing.output;
   CommandRun no_args = mbest("detect");
-  EXPECT_NE(no_args.code, 0);
+  EXPECT_EQ(no_args.code, 2);
   EXPECT_NE(no_args.output.find("INPUT"), std::string::npos) << no_args.output;
+}
+
+// Whatever the command and whoever catches the mistake (the option parser or the command),
+// an error in the arguments exits 2 and names the option; --help exits 0.
+TEST_F(DetectCommand, ArgumentErrorsOfEveryCommandExitTwo) {
+  const std::string out = (dir / "out").string();
+  for (const auto& [args, named] : std::vector<std::pair<std::string, std::string>>{
+           {"synth --count -1 --out " + out, "--count"},
+           {"synth --count 1 --preset bogus --out " + out, "bogus"},
+           {"detect " + (dir / "data").string() + " --config " + (dir / "none.json").string(), "--config"},
+           {"eval " + (dir / "data").string() + " --frobnicate", "--frobnicate"},
+           {"unknown-command", "unknown-command"}}) {
+    const CommandRun r = mbest(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(named), std::string::npos) << args << "\n" << r.output;
+  }
+  EXPECT_EQ(mbest("synth --help").code, 0);
 }
 
 }  // namespace
