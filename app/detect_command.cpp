@@ -226,7 +226,9 @@ void add_detect_command(CLI::App& app, int* exit_code) {
       "Detect DLOs in an image or a data set folder. For each image writes <stem>.labels.png "
       "(16-bit, 0 = background, 1..N = DLOs; crossing pixels belong to the DLO on top), "
       "<stem>.json (ordered centerlines, radii, crossings with the DLO on top, stage timings) "
-      "and, with --overlay, <stem>.overlay.png, mirroring INPUT's folders under --out.");
+      "and, with --overlay, <stem>.overlay.png, mirroring INPUT's folders under --out. Exit "
+      "code 1 if an image failed (the others are written), 2 on bad arguments, 130 when "
+      "interrupted (Ctrl-C finishes the image at hand).");
   cmd->add_option("INPUT", opts->input,
                   "An image (.jpg/.jpeg/.png), or a folder: every image under it whose parent "
                   "folder is named 'images' (the mbest-real and `mbest synth` layout), else "

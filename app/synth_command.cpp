@@ -88,7 +88,9 @@ void add_synth_command(CLI::App& app, int* exit_code) {
       "synth",
       "Generate labeled scenes of elastic rods (images, 16-bit instance labels, semantic and amodal "
       "masks, JSON annotations, COCO file). Scene i depends only on (config, seed, i): any --jobs or "
-      "--shard gives identical files. Re-running resumes, skipping finished scenes.");
+      "--shard gives identical files. Re-running resumes, skipping finished scenes. Exit code 1 "
+      "on a failure, 2 on bad arguments, 130 when interrupted (Ctrl-C finishes the scenes being "
+      "written).");
   cmd->add_option("--preset", args->preset, "s1, s2, s3 (like the real dev set), cables, stress")
       ->capture_default_str();
   cmd->add_option("--config", args->config,
