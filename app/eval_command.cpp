@@ -66,16 +66,16 @@ int run_eval(const EvalArgs& a) {
   if (!a.run && a.pred.empty()) {
     std::cerr << "mbest eval: give the predictions with --pred DIR (a `mbest detect --out` "
                  "folder) or compute them with --run\n";
-    return 1;
+    return kEvalBadInput;
   }
   if (!a.run && !std::filesystem::is_directory(a.pred)) {
     std::cerr << "mbest eval: " << a.pred << ": prediction folder not found\n";
-    return 1;
+    return kEvalBadInput;
   }
   Result<v::Dataset> dataset = v::open_dataset(a.dataset);
   if (!dataset) {
     std::cerr << "mbest eval: " << dataset.error().message << "\n";
-    return 1;
+    return kEvalBadInput;
   }
   v::EvalOptions options;
   options.pred_dir = a.pred;
@@ -85,7 +85,7 @@ int run_eval(const EvalArgs& a) {
   Result<v::Evaluation> evaluation = v::evaluate(dataset.value(), options, progress_printer(a.run));
   if (!evaluation) {
     std::cerr << "mbest eval: " << evaluation.error().message << "\n";
-    return 1;
+    return kEvalBadInput;
   }
   const v::Evaluation& e = evaluation.value();
   const v::Summary summary = v::summarise(e);
@@ -93,7 +93,7 @@ int run_eval(const EvalArgs& a) {
     std::cerr << "mbest eval: " << a.pred << ": no prediction for any image of " << a.dataset
               << " (expected e.g. " << v::prediction_paths(e.images[0].item, a.pred).labels
               << ", as `mbest detect " << a.dataset << " --out " << a.pred << "` writes)\n";
-    return 1;
+    return kEvalBadInput;
   }
   const v::ReportInfo info{command_line(a)};
   if (a.json) {
@@ -108,7 +108,7 @@ int run_eval(const EvalArgs& a) {
   if (!a.report.empty()) {
     if (Status s = v::write_report(e, summary, info, a.report); !s) {
       std::cerr << "mbest eval: " << s.error().message << "\n";
-      return 1;
+      return kEvalBadInput;
     }
     std::cerr << "mbest eval: wrote " << a.report << "/report.{json,md,html}\n";
   }

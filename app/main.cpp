@@ -23,10 +23,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // CLI11 prints the message (or the help, exit 0). An error in the arguments exits as the
-    // command's own checks of its arguments do: 2, but 1 for eval, whose 2 means that a tier
-    // missed a gate.
+    // command's own checks of its arguments do (commands.h).
     const bool eval = argc > 1 && std::string(argv[1]) == "eval";
-    return app.exit(e) == 0 ? 0 : eval ? 1 : 2;
+    return app.exit(e) == 0 ? 0 : eval ? mbest::app::kEvalBadInput : 2;
   }
   return exit_code;
 }

@@ -173,10 +173,10 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 // one qualifies, up to kMaxExactExits exits. A link longer than that, up to `wide_link`,
 // qualifies too when it is wider than the branches around it (wider_than_neighbours over
 // `wide_reach` px: two strands lying side by side, as a twisted pair's), if the gain is
-// three times `min_gain`. At most one of the two may have an odd exit count (a DLO ends there, e.g. on
-// the crossing of two others): the joined region then leaves one exit unpaired too, so the
-// costs compare like with like; two odd ones are pair_lone_ys's case. Returns the merges
-// made.
+// three times `min_gain`. At most one of the two may have an odd exit count (a DLO ends
+// there, e.g. on the crossing of two others): the joined region then leaves one exit
+// unpaired too, so the costs compare like with like; two odd ones are pair_lone_ys's case.
+// Returns the merges made.
 int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
                                   TangentCache& tangents, double max_link, double min_gain,
                                   double wide_link = 0, double wide_reach = 0);
