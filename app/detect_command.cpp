@@ -2,6 +2,8 @@
 // an instance label PNG, a JSON of centerlines and crossings, and optionally an overlay.
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -165,6 +167,25 @@ int run(Options o) {
     std::cerr << "mbest detect: --mask must be a folder when INPUT is a folder\n";
     return 2;
   }
+  // The timings file is written after the batch: a path that cannot take it is an argument
+  // error found now, not after hours of detection.
+  if (!o.timings.empty()) {
+    const fs::path parent = fs::path(o.timings).parent_path();
+    const std::string folder = parent.empty() ? "." : parent.string();
+    if (fs::is_directory(o.timings, ec)) {
+      std::cerr << "mbest detect: --timings " << o.timings << ": is a folder, not a file name\n";
+      return 2;
+    }
+    if (Status s = make_dirs(folder); !s) {
+      std::cerr << "mbest detect: --timings: " << s.error().message << "\n";
+      return 2;
+    }
+    if (::access(folder.c_str(), W_OK) != 0) {
+      std::cerr << "mbest detect: --timings " << o.timings << ": cannot write in " << folder << " ("
+                << std::strerror(errno) << ")\n";
+      return 2;
+    }
+  }
   if (Status s = make_dirs(o.out); !s) {
     std::cerr << "mbest detect: " << s.error().message << "\n";
     return 2;
@@ -250,7 +271,8 @@ void add_detect_command(CLI::App& app, int* exit_code) {
   cmd->add_flag("--overlay", opts->overlay, "Also write <stem>.overlay.png for a person to check");
   cmd->add_option("--timings", opts->timings,
                   "Write per-image and median detector milliseconds per stage to this JSON file "
-                  "(mask in, labels and centerlines out; decoding and colour filter excluded)");
+                  "(mask in, labels and centerlines out; decoding and colour filter excluded); its "
+                  "folder is made if missing, and checked before any image is detected");
   cmd->add_flag("--quiet,-q", opts->quiet, "No progress line");
   cmd->callback([opts, exit_code] { *exit_code = run(*opts); });
 }

@@ -117,6 +117,25 @@ TEST_F(DetectCommand, UnwritableOutputFolderIsAClearError) {
   EXPECT_NE(r.output.find("file/sub"), std::string::npos) << r.output;
 }
 
+// The timings file is written after the whole batch; a path that cannot take it is found
+// before any image is detected.
+TEST_F(DetectCommand, UnwritableTimingsPathFailsBeforeTheBatch) {
+  std::ofstream(dir / "file") << "x";
+  const std::string input = (dir / "data").string();
+  for (const fs::path& bad : {dir / "file/sub/t.json", dir / "data"}) {
+    const fs::path out = dir / ("out_" + bad.filename().string());
+    CommandRun r = mbest("detect " + input + " --out " + out.string() + " --timings " + bad.string());
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("--timings"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out / "a/images/good.labels.png")) << bad << ": the batch ran first";
+  }
+  // A folder that does not exist yet is made, as --out's is.
+  CommandRun ok = mbest("detect " + input + " --out " + (dir / "out").string() + " --quiet --timings " +
+                        (dir / "new/t.json").string());
+  EXPECT_EQ(ok.code, 1) << ok.output;  // the broken image
+  EXPECT_TRUE(fs::exists(dir / "new/t.json")) << ok.output;
+}
+
 TEST_F(DetectCommand, MissingInputAndMissingArgument) {
   CommandRun missing = mbest("detect " + (dir / "nothing.png").string());
   EXPECT_EQ(missing.code, 2);
