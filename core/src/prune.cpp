@@ -120,30 +120,66 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
     const std::vector<cv::Point>& px = g.branches[bi].pixels;
     const std::vector<float>& radius = g.branches[bi].radius;
     const int n = static_cast<int>(px.size());
+    // The turn at pixels [s, e] of the branch: between the chords reach px before s and
+    // after e, when the arms before those chords run straight into them (a small loop or a
+    // hairpin at the border turns as sharply, but all along); 2 (no turn) if they do not.
+    const auto turn_cosine = [&](int s, int e) -> double {
+      const cv::Point2f before = unit(cv::Point2f(px[s] - px[s - k])), after = unit(cv::Point2f(px[e + k] - px[e]));
+      if (unit(cv::Point2f(px[s - k] - px[s - 2 * k])).dot(before) < kStraightArm ||
+          unit(cv::Point2f(px[e + 2 * k] - px[e + k])).dot(after) < kStraightArm)
+        return 2;
+      return before.dot(after);
+    };
+    const auto near_border = [&](int i) {
+      return distance_to_border(px[i], image) <= (radius.empty() ? 1.0f : radius[i]) + 1.5f;
+    };
+    const auto folds = [&](double cosine) {
+      if (cosine > 1) return false;
+      const double quarter_turn = std::acos(std::clamp(cosine, -1.0, 1.0)) / 4;
+      return 8 * std::tan(quarter_turn) * std::tan(quarter_turn) > fold_energy;
+    };
     int tip = -1;
-    double sharpest = -1;  // cosine of the turn: -1 is a full turn back
+    double sharpest = 2;  // cosine of the turn: -1 is a full turn back
     for (int i = 2 * k; i + 2 * k < n; ++i) {
-      const cv::Point p = px[i];
-      if (distance_to_border(p, image) > (radius.empty() ? 1.0f : radius[i]) + 1.5f) continue;
-      const cv::Point2f before = unit(cv::Point2f(p - px[i - k])), after = unit(cv::Point2f(px[i + k] - p));
-      // The arms run straight up to the tip: a small loop or a hairpin at the border turns
-      // as sharply, but all along.
-      if (unit(cv::Point2f(px[i - k] - px[i - 2 * k])).dot(before) < kStraightArm ||
-          unit(cv::Point2f(px[i + 2 * k] - px[i + k])).dot(after) < kStraightArm)
-        continue;
-      const double c = before.dot(after);
-      if (tip < 0 || c < sharpest) tip = i, sharpest = c;
+      if (!near_border(i)) continue;
+      const double c = turn_cosine(i, i);
+      if (c < sharpest) tip = i, sharpest = c;
     }
-    if (tip < 0) continue;
-    const double quarter_turn = std::acos(std::clamp(sharpest, -1.0, 1.0)) / 4;
-    if (8 * std::tan(quarter_turn) * std::tan(quarter_turn) <= fold_energy) continue;
+    // Where the two leave the image a little apart, thinning runs the branch along the
+    // border between them, and the turn is split between the two ends of that stretch, each
+    // too gentle alone. A stretch of up to 4 reach px along the border is cut whole when it
+    // turns as sharply as one pixel would, and three times as much as its arms, bending at
+    // the rate they do, would over its length: a loop or a bend that leaves the image and
+    // comes back turns at the border no faster than next to it.
+    int last = tip;
+    if (!folds(sharpest)) {
+      const auto angle = [](cv::Point2f a, cv::Point2f b) {
+        return std::acos(std::clamp(static_cast<double>(unit(a).dot(unit(b))), -1.0, 1.0));
+      };
+      tip = -1;
+      sharpest = 2;
+      for (int i = 2 * k; i + 2 * k < n; ++i) {
+        if (!near_border(i)) continue;
+        int e = i;
+        while (e + 1 + 2 * k < n && near_border(e + 1)) ++e;
+        if (e > i && e - i <= 4 * k) {
+          const double c = turn_cosine(i, e);
+          const double arm_rate = std::max(angle(px[i - k] - px[i - 2 * k], px[i] - px[i - k]),
+                                           angle(px[e + 2 * k] - px[e + k], px[e + k] - px[e])) / k;
+          if (c < sharpest && std::acos(std::min(c, 1.0)) > 3 * arm_rate * (k + e - i))
+            tip = i, last = e, sharpest = c;
+        }
+        i = e;
+      }
+      if (!folds(sharpest)) continue;
+    }
 
     // Cut: pixels [0, tip - 1) stay with the branch, which now ends at pixel tip - 1; pixel
-    // tip - 1 and tip + 1 become ends, pixel tip is dropped; [tip + 2, n) is a new branch
-    // from the end at tip + 1 to the old far node.
+    // tip - 1 and last + 1 become ends, pixels tip to last are dropped; [last + 2, n) is a
+    // new branch from the end at last + 1 to the old far node.
     const int first_end = static_cast<int>(g.nodes.size()), second_end = first_end + 1;
     const int second = static_cast<int>(g.branches.size());
-    for (cv::Point at : {px[tip - 1], px[tip + 1]}) {
+    for (cv::Point at : {px[tip - 1], px[last + 1]}) {
       Node e;
       e.kind = Node::Kind::end;
       e.pixels = {at};
@@ -151,8 +187,8 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
       g.nodes.push_back(e);
     }
     Branch tail;
-    tail.pixels.assign(px.begin() + tip + 2, px.end());
-    if (!radius.empty()) tail.radius.assign(radius.begin() + tip + 2, radius.end());
+    tail.pixels.assign(px.begin() + last + 2, px.end());
+    if (!radius.empty()) tail.radius.assign(radius.begin() + last + 2, radius.end());
     tail.node[0] = second_end;
     tail.node[1] = g.branches[bi].node[1];
     Branch& head = g.branches[bi];

@@ -489,6 +489,29 @@ TEST(Detector, RodsLeavingTheImageSideBySideAreTwoDlos) {
   expect_two_dlos_not_one_folded(mask, gt, never_cut);
 }
 
+TEST(Detector, RodsLeavingTheImageALittleApartAreTwoDlos) {
+  // Two straight rods reach the top edge 9 px apart, one steep, one at 25 degrees to it:
+  // the mask joins them along the border, and thinning runs the skeleton along it from one
+  // to the other, so the turn is split between two corners, each too gentle alone.
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({240, 200}, {{{20, 150}, {113, -3}}, {{235, 50}, {122, -3}}}, 11, &gt);
+  DetectorConfig never_cut;
+  never_cut.border_fold_energy = 1000;
+  expect_two_dlos_not_one_folded(mask, gt, never_cut);
+}
+
+TEST(Detector, BendLeavingTheImageAndComingBackStaysOneDlo) {
+  // A rod bent round a circle of radius 50 px whose top runs just outside the top edge: its
+  // skeleton runs along the border as two rods leaving it would, and turns as much, but
+  // the arms bend at the same rate on either side, so it is not cut.
+  std::vector<cv::Point> bend = test::arc({120, 45}, 50, M_PI * 0.8, M_PI * 2.2);
+  const cv::Mat mask = scene({240, 200}, {bend}, 11);
+  ASSERT_GT(cv::countNonZero(mask.row(0)), 20) << "the bend must run along the border";
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 1u);
+}
+
 TEST(Detector, HairpinAtTheBorderStaysOneDlo) {
   // One rod bent back in a hairpin of radius 13 px (about 2 radii) whose apex grazes the
   // top edge: it turns as sharply as a V, but along the whole bend, so it is not cut.

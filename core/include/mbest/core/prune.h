@@ -35,8 +35,14 @@ int prune_split_ends(SkeletonGraph& graph, double delta, cv::Size image,
 // 78 degrees, 4 about 140); straight arms turn less than 30 degrees between the chords
 // from 2 `reach` to `reach` px and from `reach` px to the pixel. A smooth bend turns as
 // much along its arms as at any pixel, and a hairpin whose bend is about `reach` long
-// turns 50 degrees or more along them: neither is cut. The pieces end at the pixels
-// before and after the cut. Returns the number of cuts.
+// turns 50 degrees or more along them: neither is cut. Where the two leave the image a
+// little apart, thinning runs the branch along the border between them: failing a pixel,
+// a stretch of up to 4 `reach` px within a radius of the border is taken whole, the chords
+// taken before its first pixel and after its last, when it turns more than 3 times as much
+// as its arms, bending at their own rate (the larger turn between their two chords, per
+// `reach` px), would over `reach` px plus its length; a bend that leaves the image and comes
+// back turns at the border no faster than beside it. The pieces end at the pixels before
+// and after the cut. Returns the number of cuts.
 int cut_folds_at_border(SkeletonGraph& graph, double reach, cv::Size image, double fold_energy);
 
 }  // namespace mbest
