@@ -525,7 +525,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
 }
 
 int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, TangentCache& cache,
-                 double min_link, double max_link, double max_cost) {
+                 double min_link, double max_link, double max_cost, double min_gain) {
   if (max_cost <= 0) return 0;
   const PairingSetup& setup = cache.setup();
   // The exit a region with an odd exit count leaves unpaired (a DLO's end), -1 if none.
@@ -579,6 +579,15 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
         worst = std::max(worst, pair_cost(t[x], t[y], setup.colour_weight));
       }
       if (all && worst <= max_cost) joined = true, cost = worst;
+    }
+    // ... or pairing all exits together costs at least min_gain less than pairing each
+    // region alone, though together the two strands left ending must pair too: each Y alone
+    // was forced into a dear pair (a strand paired with a link whose colour mixes two
+    // strands lying along each other) that joining undoes. Taken before the others, best
+    // gain first (its cost is the negative gain).
+    if (!joined) {
+      const double gain = cache.least_cost(a.exits) + cache.least_cost(c.exits) - cache.least_cost(exits);
+      if (gain >= min_gain) joined = true, cost = -gain;
     }
     if (joined) candidates.push_back({cost, i, ra, rb, std::move(exits)});
   }

@@ -379,7 +379,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   });
   auto passages = stage("bending", [&] {
     pair_lone_ys(graph, regions, tangents, config.epsilon_radii * r, config.wide_radii * r,
-                 config.lone_y_cost);
+                 config.lone_y_cost, config.merge_gain);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
                                   config.merge_gain, config.wide_radii * r,
                                   3 * config.merge_radii * r);

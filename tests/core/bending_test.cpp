@@ -419,5 +419,66 @@ TEST(Bending, TwoYsWhoseStrandsBothRunThroughAreOneCrossing) {
   }
 }
 
+// Two strands crossing at a shallow angle, lying along each other between two junctions:
+// the branch joining them shows a colour between the two (purple between red and blue), and
+// a white DLO crosses at the left junction. Red runs straight along the link at the left and
+// turns off at the right, blue the other way round, so each junction alone pairs the link
+// with the straighter strand, at the price of the colour change, and leaves the other ending:
+// blue at the left, red at the right. Those two do not continue each other (their colours
+// differ), and the left junction is no plain Y; pairing all exits together is still far
+// cheaper, with every strand keeping its colour, so the junctions are one crossing.
+TEST(Bending, RegionsEachPairingTheLinkDearlyAreOneCrossing) {
+  HandGraph h;
+  h.bgr = cv::Mat(200, 260, CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Scalar red(40, 40, 200), blue(200, 90, 30), white(230, 230, 230), purple(120, 65, 115);
+  const int a = h.node({100, 100}, Node::Kind::junction), c = h.node({160, 100}, Node::Kind::junction);
+  h.branch(h.node({100, 40}, Node::Kind::end), a, white);
+  h.branch(a, h.node({100, 160}, Node::Kind::end), white);
+  const int red_in = h.branch(h.node({40, 100}, Node::Kind::end), a, red);
+  const int blue_in = h.branch(h.node({50, 135}, Node::Kind::end), a, blue);
+  const int blue_out = h.branch(c, h.node({220, 100}, Node::Kind::end), blue);
+  const int red_out = h.branch(c, h.node({210, 65}, Node::Kind::end), red);
+  h.branch(a, c, purple);
+  const HandGraph fresh = h;
+  SkeletonGraph& g = h.graph;
+  const PairingSetup setup{2, 8, h.bgr, 4.0};
+  // Alone, the left junction leaves blue ending and the right one red.
+  {
+    SkeletonGraph copy = g;
+    TangentCache cache(copy, setup);
+    std::vector<CrossingRegion> regions = h.regions_of({a, c});
+    for (const auto& [r, ending] : {std::pair{0, blue_in}, std::pair{1, red_out}}) {
+      const std::vector<BranchTangent> t = cache.of(regions[r].exits);
+      std::vector<bool> paired(t.size(), false);
+      for (const auto& [i, j] : min_energy_pairing(t, setup.colour_weight)) paired[i] = paired[j] = true;
+      for (size_t k = 0; k < t.size(); ++k)
+        EXPECT_EQ(!paired[k], regions[r].exits[k].branch == ending) << "region " << r << ", exit " << k;
+    }
+    EXPECT_EQ(pair_lone_ys(copy, regions, cache, 30, 200, 4.0), 0)
+        << "the strands left ending do not continue each other: without a gain, not joined";
+  }
+  TangentCache cache(g, setup);
+  std::vector<CrossingRegion> regions = h.regions_of({a, c});
+  ASSERT_EQ(pair_lone_ys(g, regions, cache, 30, 200, 4.0, 1.0), 1);
+  ASSERT_EQ(regions.size(), 1u);
+  ASSERT_EQ(regions[0].exits.size(), 6u);
+  const std::vector<BranchTangent> t = cache.of(regions[0].exits);
+  const auto pairs = min_energy_pairing(t, setup.colour_weight);
+  ASSERT_EQ(pairs.size(), 3u);
+  for (const auto& [i, j] : pairs) {
+    EXPECT_EQ(colour_penalty(t[i], t[j]), 0) << "every strand keeps its colour";
+    const int bi = regions[0].exits[i].branch, bj = regions[0].exits[j].branch;
+    for (const auto& [x, y] : {std::pair{red_in, red_out}, std::pair{blue_in, blue_out}})
+      if (bi == x || bj == x) {
+        EXPECT_TRUE(bi == y || bj == y) << "branches " << bi << " and " << bj;
+      }
+  }
+  // A gain larger than joining brings: not joined.
+  HandGraph again = fresh;
+  TangentCache again_cache(again.graph, setup);
+  std::vector<CrossingRegion> again_regions = again.regions_of({a, c});
+  EXPECT_EQ(pair_lone_ys(again.graph, again_regions, again_cache, 30, 200, 4.0, 1000.0), 0);
+}
+
 }  // namespace
 }  // namespace mbest

@@ -161,9 +161,15 @@ class TangentCache {
 // Ys (three exits each) are also one crossing when both strands run through: the joined
 // pairing joins each exit of one Y to one of the other, each pair at most `max_cost` (a
 // shallow crossing with a long overlap, where which strand each Y alone leaves ending is
-// a near tie). Cheapest first, each region once. Returns the pairs joined.
+// a near tie). Or, whatever the strands left ending, when pairing the exits of both
+// together costs at least `min_gain` less than pairing each region alone (as
+// merge_regions_by_pairing_cost, though joined the two strands left ending pair too): a
+// shallow crossing whose Ys each paired a strand with the link between them because the
+// link's colour mixes both strands. Cheapest first (a gain counting as its negative cost),
+// each region once. Returns the pairs joined.
 int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, TangentCache& cache,
-                 double min_link, double max_link, double max_cost);
+                 double min_link, double max_link, double max_cost,
+                 double min_gain = std::numeric_limits<double>::infinity());
 
 // Junction grouping decides by distance; where three strands cross near one point the
 // skeleton may split the crossing into two regions a few radii apart, and each alone can
