@@ -586,7 +586,8 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     // strands lying along each other) that joining undoes. Taken before the others, best
     // gain first (its cost is the negative gain).
     if (!joined) {
-      const double gain = cache.least_cost(a.exits) + cache.least_cost(c.exits) - cache.least_cost(exits);
+      const double gain = cache.least_cost(a.exits) + cache.least_cost(c.exits) -
+                          pairing_cost(t, pairs, setup.colour_weight);
       if (gain >= min_gain) joined = true, cost = -gain;
     }
     if (joined) candidates.push_back({cost, i, ra, rb, std::move(exits)});
