@@ -480,7 +480,7 @@ namespace mbest {
 
 int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>& regions,
                                   TangentCache& cache, double max_link, double min_gain,
-                                  double wide_link, double wide_reach) {
+                                  double long_link) {
   int merged = 0;
   for (;;) {
     const std::vector<int> region_of = region_of_nodes(g, regions);
@@ -491,8 +491,8 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
     for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
       const Branch& b = g.branches[i];
       if (!b.alive || b.twin >= 0) continue;
-      const bool wide = b.length > max_link;
-      if (wide && !(b.length <= wide_link && wider_than_neighbours(g, i, wide_reach))) continue;
+      const bool far = b.length > max_link;
+      if (far && b.length > long_link) continue;
       const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
       if (ra < 0 || rb < 0 || ra == rb) continue;
       const CrossingRegion &a = regions[ra], &c = regions[rb];
@@ -502,11 +502,11 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       if (exits.size() < 4 || exits.size() > kMaxExactExits) continue;
       for (int r : {ra, rb})
         if (cost[r] < 0) cost[r] = cache.least_cost(regions[r].exits);
-      // A wide link must gain three times as much: past max_link the strands at its two
+      // A long link must gain three times as much: past max_link the strands at its two
       // ends are far apart, and a pairing cost is a weaker cue there. Joining cannot gain
       // more than its cost's lower bound allows: regions that pair well alone, or a joined
       // set whose exits all pair dearly, are not worth pairing exactly.
-      const double alone = cost[ra] + cost[rb] - (wide ? 2 * min_gain : 0);
+      const double alone = cost[ra] + cost[rb] - (far ? 2 * min_gain : 0);
       if (alone - cache.least_cost_bound(exits) <= best_gain) continue;
       const double gain = alone - cache.least_cost(exits);
       if (gain > best_gain) {

@@ -337,24 +337,38 @@ TEST(Bending, AWideExitOfAYTakesItsColourPastWhereItNarrows) {
   }
 }
 
-// Past max_link, the link must be wider than the branches around it (two strands lying
-// side by side along it) for the merge.
-TEST(Bending, RegionsJoinedByALongWideLinkAreMerged) {
+// Past max_link, up to long_link, the joint pairing must gain three times min_gain, however
+// wide the link is.
+TEST(Bending, RegionsJoinedByALongLinkMergeForThreeTimesTheGain) {
   // The bundle's link is about 40 px long: beyond max_link = 30 here.
-  const auto merges = [](float link_radius, double wide_link) {
+  const auto merges = [](double max_link, double min_gain, double long_link) {
     Bundle b = bundle();
-    for (Branch& br : b.graph.branches)
-      if (b.graph.nodes[br.node[0]].kind == Node::Kind::junction &&
-          b.graph.nodes[br.node[1]].kind == Node::Kind::junction)
-        br.radius.assign(br.radius.size(), link_radius);
     const PairingSetup setup{2, 8, b.bgr, 2.0};
     TangentCache tangents(b.graph, setup);
-    return merge_regions_by_pairing_cost(b.graph, b.regions, tangents, 30, 1.0, wide_link, 12);
+    return merge_regions_by_pairing_cost(b.graph, b.regions, tangents, max_link, min_gain, long_link);
   };
-  EXPECT_EQ(merges(6.0f, 60), 1) << "twice as wide as its neighbours: merged";
-  EXPECT_EQ(merges(3.0f, 60), 0) << "no wider than its neighbours: not merged";
-  EXPECT_EQ(merges(6.0f, 35), 0) << "wide, but longer than wide_link: not merged";
-  EXPECT_EQ(merges(6.0f, 0), 0) << "wide links off by default";
+  Bundle b = bundle();
+  const PairingSetup setup{2, 8, b.bgr, 2.0};
+  TangentCache tangents(b.graph, setup);
+  // Joined, the exits are both regions' but the link's two ends (the branch joining the
+  // two junctions).
+  std::vector<BranchEnd> joined;
+  for (const CrossingRegion& r : b.regions)
+    for (const BranchEnd& e : r.exits) {
+      const Branch& br = b.graph.branches[e.branch];
+      if (b.graph.nodes[br.node[0]].kind != Node::Kind::junction ||
+          b.graph.nodes[br.node[1]].kind != Node::Kind::junction)
+        joined.push_back(e);
+    }
+  ASSERT_EQ(joined.size(), 6u);
+  const double gain = tangents.least_cost(b.regions[0].exits) + tangents.least_cost(b.regions[1].exits) -
+                      tangents.least_cost(joined);
+  ASSERT_GT(gain, 3.0) << "each region alone pairs two strands wrongly";
+  EXPECT_EQ(merges(30, 0.9 * gain / 3, 60), 1) << "long, gaining over three times min_gain: merged";
+  EXPECT_EQ(merges(30, 1.1 * gain / 3, 60), 0) << "long, gaining under three times min_gain: not merged";
+  EXPECT_EQ(merges(60, 1.1 * gain / 3, 60), 1) << "the same gain merges within max_link";
+  EXPECT_EQ(merges(30, 0.9 * gain / 3, 35), 0) << "longer than long_link: not merged";
+  EXPECT_EQ(merges(30, 0.9 * gain / 3, 0), 0) << "long links off by default";
 }
 
 // Where a DLO also ends at one of the two regions, that region has an odd exit count; the

@@ -176,16 +176,18 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 // only pair its exits wrongly. Two regions joined by a branch no longer than `max_link`
 // become one when pairing their exits together costs at least `min_gain` less than pairing
 // each alone (the link becomes inner and is marked dead); best gain first, repeated while
-// one qualifies, up to kMaxExactExits exits. A link longer than that, up to `wide_link`,
-// qualifies too when it is wider than the branches around it (wider_than_neighbours over
-// `wide_reach` px: two strands lying side by side, as a twisted pair's), if the gain is
-// three times `min_gain`. At most one of the two may have an odd exit count (a DLO ends
+// one qualifies, up to kMaxExactExits exits. A link longer than that, up to `long_link`,
+// qualifies too if the gain is three times `min_gain`: two strands crossing at a shallow
+// angle overlap along it, or a twisted pair's two strands lie side by side along it, and
+// one region alone must pair a strand with the link that carries both (whether the mask
+// shows the link wider than its neighbours or not: a thin DLO over a wide one does not
+// widen it). At most one of the two may have an odd exit count (a DLO ends
 // there, e.g. on the crossing of two others): the joined region then leaves one exit
 // unpaired too, so the costs compare like with like; two odd ones are pair_lone_ys's case.
 // Returns the merges made.
 int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
                                   TangentCache& tangents, double max_link, double min_gain,
-                                  double wide_link = 0, double wide_reach = 0);
+                                  double long_link = 0);
 
 // The bending stage: for every crossing region, the tangents of its exits (from the graph
 // `tangents` was made for) and the pairing of least total cost; one Passage per pair. A
