@@ -499,7 +499,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       // Two strands end there, one each: joining would pair them (pair_lone_ys).
       if (a.exits.size() % 2 && c.exits.size() % 2) continue;
       std::vector<BranchEnd> exits = joined_exits(a, c, i);
-      if (exits.size() < 4 || exits.size() > kMaxExactExits) continue;
+      if (exits.size() < 3 || exits.size() > kMaxExactExits) continue;
       for (int r : {ra, rb})
         if (cost[r] < 0) cost[r] = cache.least_cost(regions[r].exits);
       // A long link must gain three times as much: past max_link the strands at its two

@@ -371,6 +371,34 @@ TEST(Bending, RegionsJoinedByALongLinkMergeForThreeTimesTheGain) {
   EXPECT_EQ(merges(30, 0.9 * gain / 3, 0), 0) << "long links off by default";
 }
 
+// A black DLO ends with its tip lying along an orange one: thinning runs the black strand
+// along the orange for a few px, and the orange's skeleton meets it at a second junction.
+// That one has two exits, forced to pair orange with black; merged with the Y beside it,
+// the orange runs straight through and the black ends there.
+TEST(Bending, BendJoiningTwoColoursBesideAYMergesIntoIt) {
+  HandGraph h;
+  h.bgr = cv::Mat(200, 240, CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Scalar orange(0, 140, 255), black(20, 20, 20);
+  const int j1 = h.node({100, 100}, Node::Kind::junction), j2 = h.node({124, 100}, Node::Kind::junction);
+  const int left = h.branch(h.node({30, 100}, Node::Kind::end), j1, orange);
+  const int right = h.branch(j2, h.node({210, 100}, Node::Kind::end), orange);
+  h.branch(j2, h.node({170, 150}, Node::Kind::end), black);
+  h.branch(j1, j2, black);  // the black tip, drawn over the orange
+  std::vector<CrossingRegion> regions = h.regions_of({j1, j2});
+  ASSERT_EQ(regions[0].exits.size(), 2u);
+  const PairingSetup setup{2, 8, h.bgr, 2.0};
+  TangentCache tangents(h.graph, setup);
+  ASSERT_EQ(merge_regions_by_pairing_cost(h.graph, regions, tangents, 60, 1.0), 1);
+  ASSERT_EQ(regions.size(), 1u);
+  ASSERT_EQ(regions[0].exits.size(), 3u);
+  const std::vector<BranchTangent> t = exit_tangents(h.graph, regions[0].exits, setup);
+  const auto pairs = min_energy_pairing(t, setup.colour_weight);
+  ASSERT_EQ(pairs.size(), 1u);
+  const int a = regions[0].exits[pairs[0].first].branch, b = regions[0].exits[pairs[0].second].branch;
+  EXPECT_EQ(std::min(a, b), std::min(left, right)) << "the orange runs through";
+  EXPECT_EQ(std::max(a, b), std::max(left, right)) << "the orange runs through";
+}
+
 // Where a DLO also ends at one of the two regions, that region has an odd exit count; the
 // merge leaves one exit unpaired either way, so the comparison still holds.
 TEST(Bending, RegionWhereAStrandEndsMergesToo) {

@@ -176,7 +176,8 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 // only pair its exits wrongly. Two regions joined by a branch no longer than `max_link`
 // become one when pairing their exits together costs at least `min_gain` less than pairing
 // each alone (the link becomes inner and is marked dead); best gain first, repeated while
-// one qualifies, up to kMaxExactExits exits. A link longer than that, up to `long_link`,
+// one qualifies, from three exits (a DLO's tip lying along another thins into a bend with
+// two exits, forced to pair the two DLOs, beside the Y where it ends) up to kMaxExactExits. A link longer than that, up to `long_link`,
 // qualifies too if the gain is three times `min_gain`: two strands crossing at a shallow
 // angle overlap along it, or a twisted pair's two strands lie side by side along it, and
 // one region alone must pair a strand with the link that carries both (whether the mask
