@@ -81,13 +81,14 @@ std::vector<int> region_of_nodes(const SkeletonGraph& g, const std::vector<Cross
   return region_of;
 }
 
-// The exits of regions `a` and `c` joined through their `link` branch: a's, then c's,
-// without the link.
-std::vector<BranchEnd> joined_exits(const CrossingRegion& a, const CrossingRegion& c, int link) {
+// The exits of `regions` joined through their `links` branches: each region's in turn,
+// without the links'.
+std::vector<BranchEnd> exits_but(std::initializer_list<const CrossingRegion*> regions,
+                                 std::initializer_list<int> links) {
   std::vector<BranchEnd> exits;
-  for (const auto* list : {&a.exits, &c.exits})
-    for (const BranchEnd& e : *list)
-      if (e.branch != link) exits.push_back(e);
+  for (const CrossingRegion* r : regions)
+    for (const BranchEnd& e : r->exits)
+      if (std::find(links.begin(), links.end(), e.branch) == links.end()) exits.push_back(e);
   return exits;
 }
 
@@ -478,6 +479,20 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
 
 namespace mbest {
 
+namespace {
+
+// A merge of crossing regions that merge_regions_by_pairing_cost may make: region `keep`
+// takes in each region gone[k] through its link links[k], and then pairs `exits` `gain`
+// cheaper than each region alone (less the extra asked of long links).
+struct Merge {
+  double gain = 0;
+  int keep = -1;
+  std::vector<int> gone, links;
+  std::vector<BranchEnd> exits;
+};
+
+}  // namespace
+
 int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>& regions,
                                   TangentCache& cache, double max_link, double min_gain,
                                   double long_link) {
@@ -485,42 +500,75 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
   for (;;) {
     const std::vector<int> region_of = region_of_nodes(g, regions);
     std::vector<double> cost(regions.size(), -1);
-    double best_gain = min_gain;
-    int best_link = -1;
-    std::vector<BranchEnd> best_exits;
+    const auto cost_of = [&](int r) {
+      if (cost[r] < 0) cost[r] = cache.least_cost(regions[r].exits);
+      return cost[r];
+    };
+    // Links: branches up to max_link, or long_link, joining two regions (twins carry a
+    // strand each). A long one asks twice min_gain more: past max_link the strands at its
+    // two ends are far apart, and a pairing cost is a weaker cue there.
+    std::vector<int> links;
+    std::vector<std::vector<int>> links_of(regions.size());
+    const auto link_allowance = [&](int i) { return g.branches[i].length > max_link ? 2 * min_gain : 0.0; };
     for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
       const Branch& b = g.branches[i];
-      if (!b.alive || b.twin >= 0) continue;
-      const bool far = b.length > max_link;
-      if (far && b.length > long_link) continue;
+      if (!b.alive || b.twin >= 0 || b.length > std::max(max_link, long_link)) continue;
       const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
       if (ra < 0 || rb < 0 || ra == rb) continue;
-      const CrossingRegion &a = regions[ra], &c = regions[rb];
-      // Two strands end there, one each: joining would pair them (pair_lone_ys).
-      if (a.exits.size() % 2 && c.exits.size() % 2) continue;
-      std::vector<BranchEnd> exits = joined_exits(a, c, i);
-      if (exits.size() < 3 || exits.size() > kMaxExactExits) continue;
-      for (int r : {ra, rb})
-        if (cost[r] < 0) cost[r] = cache.least_cost(regions[r].exits);
-      // A long link must gain three times as much: past max_link the strands at its two
-      // ends are far apart, and a pairing cost is a weaker cue there. Joining cannot gain
-      // more than its cost's lower bound allows: regions that pair well alone, or a joined
-      // set whose exits all pair dearly, are not worth pairing exactly.
-      const double alone = cost[ra] + cost[rb] - (far ? 2 * min_gain : 0);
-      if (alone - cache.least_cost_bound(exits) <= best_gain) continue;
-      const double gain = alone - cache.least_cost(exits);
-      if (gain > best_gain) {
-        best_gain = gain;
-        best_link = i;
-        best_exits = std::move(exits);
-      }
+      links.push_back(i);
+      links_of[ra].push_back(i);
+      links_of[rb].push_back(i);
     }
-    if (best_link < 0) return merged;
-    const Branch& link = g.branches[best_link];
-    const int ra = region_of[link.node[0]], rb = region_of[link.node[1]];
-    absorb_region(g, regions[ra], regions[rb], best_link, std::move(best_exits));
-    regions.erase(regions.begin() + rb);
-    ++merged;
+    const auto other_region = [&](int link, int r) {
+      const Branch& b = g.branches[link];
+      return region_of[b.node[0]] == r ? region_of[b.node[1]] : region_of[b.node[0]];
+    };
+    // A candidate merge is the best so far if `alone` (the regions' own least costs, less
+    // what their links ask) less the joined exits' least cost beats best.gain. Joining
+    // cannot gain more than its cost's lower bound allows: regions that pair well alone, or
+    // a joined set whose exits all pair dearly, are not worth pairing exactly.
+    Merge best;
+    const auto consider = [&](double alone, int keep, std::vector<int> gone, std::vector<int> through,
+                              std::vector<BranchEnd> exits) {
+      if (exits.size() < 3 || exits.size() > kMaxExactExits) return;
+      if (alone - cache.least_cost_bound(exits) <= best.gain) return;
+      const double gain = alone - cache.least_cost(exits);
+      if (gain > best.gain) best = {gain, keep, std::move(gone), std::move(through), std::move(exits)};
+    };
+    // Two regions, through one link.
+    best.gain = min_gain;
+    for (int i : links) {
+      const int ra = region_of[g.branches[i].node[0]], rb = region_of[g.branches[i].node[1]];
+      // Two strands end there, one each: joining would pair them (pair_lone_ys).
+      if (regions[ra].exits.size() % 2 && regions[rb].exits.size() % 2) continue;
+      consider(cost_of(ra) + cost_of(rb) - link_allowance(i), ra, {rb}, {i},
+               exits_but({&regions[ra], &regions[rb]}, {i}));
+    }
+    // Failing that, three in a row through two links, for three times min_gain: a strand
+    // may need all three to pair right where neither end region gains enough joined to the
+    // middle one alone (a thin DLO hidden under a wide one across a third DLO's crossing).
+    if (best.links.empty()) {
+      best.gain = 3 * min_gain;
+      for (int m = 0; m < static_cast<int>(regions.size()); ++m)
+        for (size_t x = 0; x < links_of[m].size(); ++x)
+          for (size_t y = x + 1; y < links_of[m].size(); ++y) {
+            const int i = links_of[m][x], j = links_of[m][y];
+            const int ra = other_region(i, m), rc = other_region(j, m);
+            if (ra == rc) continue;
+            consider(cost_of(ra) + cost_of(m) + cost_of(rc) - link_allowance(i) - link_allowance(j), m,
+                     {ra, rc}, {i, j}, exits_but({&regions[ra], &regions[m], &regions[rc]}, {i, j}));
+          }
+    }
+    if (best.links.empty()) return merged;
+    for (size_t k = 0; k < best.gone.size(); ++k) {
+      CrossingRegion& keep = regions[best.keep];
+      const CrossingRegion& gone = regions[best.gone[k]];
+      absorb_region(g, keep, gone, best.links[k],
+                    k + 1 == best.gone.size() ? std::move(best.exits) : exits_but({&keep, &gone}, {best.links[k]}));
+      ++merged;
+    }
+    std::sort(best.gone.rbegin(), best.gone.rend());  // erased last first
+    for (int r : best.gone) regions.erase(regions.begin() + r);
   }
 }
 
@@ -551,7 +599,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     if (ra < 0 || rb < 0 || ra == rb) continue;
     const CrossingRegion &a = regions[ra], &c = regions[rb];
     if (a.exits.size() % 2 == 0 || c.exits.size() % 2 == 0) continue;
-    std::vector<BranchEnd> exits = joined_exits(a, c, i);
+    std::vector<BranchEnd> exits = exits_but({&a, &c}, {i});
     if (exits.size() > kMaxExactExits) continue;
     const std::vector<BranchTangent> t = cache.of(exits);
     const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, setup.colour_weight);

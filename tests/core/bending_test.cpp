@@ -371,6 +371,50 @@ TEST(Bending, RegionsJoinedByALongLinkMergeForThreeTimesTheGain) {
   EXPECT_EQ(merges(30, 0.9 * gain / 3, 0), 0) << "long links off by default";
 }
 
+// Three regions in a row, A - M - C, along a red DLO: a green one crosses it at M; a blue
+// one comes in at A, lies hidden under the red up to C and leaves there; a purple one ends
+// at A. A alone must pair blue with purple (a turn and a change of colour), joined to M it
+// still must, and M with C pair well alone: only the three together let blue run through
+// and purple end.
+TEST(Bending, ThreeRegionsInARowMergeWhenOnlyTogetherTheyPairWell) {
+  const auto run = [](double min_gain, int* merges) {
+    HandGraph h;
+    h.bgr = cv::Mat(200, 280, CV_8UC3, cv::Scalar(0, 0, 0));
+    const cv::Scalar red(40, 40, 200), blue(200, 90, 30), green(40, 200, 60), purple(160, 40, 140);
+    const int a = h.node({100, 100}, Node::Kind::junction), m = h.node({140, 100}, Node::Kind::junction),
+              c = h.node({180, 100}, Node::Kind::junction);
+    h.branch(h.node({30, 100}, Node::Kind::end), a, red);
+    const int blue_in = h.branch(h.node({60, 60}, Node::Kind::end), a, blue);
+    const int purple_end = h.branch(h.node({60, 140}, Node::Kind::end), a, purple);
+    h.branch(h.node({140, 30}, Node::Kind::end), m, green);
+    h.branch(m, h.node({140, 170}, Node::Kind::end), green);
+    h.branch(c, h.node({250, 100}, Node::Kind::end), red);
+    const int blue_out = h.branch(c, h.node({220, 140}, Node::Kind::end), blue);
+    h.branch(a, m, red);  // the red lies over the blue
+    h.branch(m, c, red);
+    std::vector<CrossingRegion> regions = h.regions_of({a, m, c});
+    const PairingSetup setup{2, 8, h.bgr, 2.0};
+    TangentCache tangents(h.graph, setup);
+    *merges = merge_regions_by_pairing_cost(h.graph, regions, tangents, 60, min_gain);
+    std::pair<int, int> blue_pair{-1, -1};
+    if (regions.size() == 1) {
+      const std::vector<BranchTangent> t = exit_tangents(h.graph, regions[0].exits, setup);
+      for (const auto& [i, j] : min_energy_pairing(t, setup.colour_weight)) {
+        const int x = regions[0].exits[i].branch, y = regions[0].exits[j].branch;
+        if (x == blue_in || y == blue_in) blue_pair = {std::min(x, y), std::max(x, y)};
+        EXPECT_NE(x, purple_end) << "purple ends";
+        EXPECT_NE(y, purple_end) << "purple ends";
+      }
+    }
+    return blue_pair == std::pair<int, int>{std::min(blue_in, blue_out), std::max(blue_in, blue_out)};
+  };
+  int merges = 0;
+  EXPECT_TRUE(run(1.0, &merges)) << "blue runs through A, M and C";
+  EXPECT_EQ(merges, 2);
+  EXPECT_FALSE(run(5.0, &merges)) << "three times min_gain is more than the three gain together";
+  EXPECT_EQ(merges, 0);
+}
+
 // A black DLO ends with its tip lying along an orange one: thinning runs the black strand
 // along the orange for a few px, and the orange's skeleton meets it at a second junction.
 // That one has two exits, forced to pair orange with black; merged with the Y beside it,

@@ -185,7 +185,11 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 // widen it). At most one of the two may have an odd exit count (a DLO ends
 // there, e.g. on the crossing of two others): the joined region then leaves one exit
 // unpaired too, so the costs compare like with like; two odd ones are pair_lone_ys's case.
-// Returns the merges made.
+// When no two qualify, three in a row (two links, each as above) become one if joined they
+// gain three times `min_gain` (plus twice `min_gain` per long link): a thin DLO hidden
+// under a wide one from one region to the next but one, across a third DLO's crossing,
+// where neither end region gains enough joined to the middle one alone. Returns the
+// merges made (two for three regions).
 int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
                                   TangentCache& tangents, double max_link, double min_gain,
                                   double long_link = 0);
