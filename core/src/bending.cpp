@@ -525,11 +525,14 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
     };
     // A candidate merge is the best so far if `alone` (the regions' own least costs, less
     // what their links ask) less the joined exits' least cost beats best.gain. Joining
-    // cannot gain more than its cost's lower bound allows: regions that pair well alone, or
-    // a joined set whose exits all pair dearly, are not worth pairing exactly.
+    // cannot gain more than `alone` (costs are not negative), nor more than its cost's lower
+    // bound allows: regions that pair well alone, or a joined set whose exits all pair
+    // dearly, are not worth pairing exactly.
     Merge best;
     const auto consider = [&](double alone, int keep, std::vector<int> gone, std::vector<int> through,
-                              std::vector<BranchEnd> exits) {
+                              const auto& joined_exits) {
+      if (alone <= best.gain) return;
+      std::vector<BranchEnd> exits = joined_exits();
       if (exits.size() < 3 || exits.size() > kMaxExactExits) return;
       if (alone - cache.least_cost_bound(exits) <= best.gain) return;
       const double gain = alone - cache.least_cost(exits);
@@ -542,7 +545,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       // Two strands end there, one each: joining would pair them (pair_lone_ys).
       if (regions[ra].exits.size() % 2 && regions[rb].exits.size() % 2) continue;
       consider(cost_of(ra) + cost_of(rb) - link_allowance(i), ra, {rb}, {i},
-               exits_but({&regions[ra], &regions[rb]}, {i}));
+               [&] { return exits_but({&regions[ra], &regions[rb]}, {i}); });
     }
     // Failing that, three in a row through two links, for three times min_gain: a strand
     // may need all three to pair right where neither end region gains enough joined to the
@@ -556,7 +559,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
             const int ra = other_region(i, m), rc = other_region(j, m);
             if (ra == rc) continue;
             consider(cost_of(ra) + cost_of(m) + cost_of(rc) - link_allowance(i) - link_allowance(j), m,
-                     {ra, rc}, {i, j}, exits_but({&regions[ra], &regions[m], &regions[rc]}, {i, j}));
+                     {ra, rc}, {i, j}, [&] { return exits_but({&regions[ra], &regions[m], &regions[rc]}, {i, j}); });
           }
     }
     if (best.links.empty()) return merged;
