@@ -177,19 +177,19 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 // become one when pairing their exits together costs at least `min_gain` less than pairing
 // each alone (the link becomes inner and is marked dead); best gain first, repeated while
 // one qualifies, from three exits (a DLO's tip lying along another thins into a bend with
-// two exits, forced to pair the two DLOs, beside the Y where it ends) up to kMaxExactExits. A link longer than that, up to `long_link`,
-// qualifies too if the gain is three times `min_gain`: two strands crossing at a shallow
-// angle overlap along it, or a twisted pair's two strands lie side by side along it, and
-// one region alone must pair a strand with the link that carries both (whether the mask
-// shows the link wider than its neighbours or not: a thin DLO over a wide one does not
-// widen it). At most one of the two may have an odd exit count (a DLO ends
-// there, e.g. on the crossing of two others): the joined region then leaves one exit
-// unpaired too, so the costs compare like with like; two odd ones are pair_lone_ys's case.
-// When no two qualify, three in a row (two links, each as above) become one if joined they
-// gain three times `min_gain` (plus twice `min_gain` per long link): a thin DLO hidden
-// under a wide one from one region to the next but one, across a third DLO's crossing,
-// where neither end region gains enough joined to the middle one alone. Returns the
-// merges made (two for three regions).
+// two exits, forced to pair the two DLOs, beside the Y where it ends) up to
+// kMaxExactExits. A link longer than that, up to `long_link`, qualifies too if the gain is
+// three times `min_gain`: two strands crossing at a shallow angle overlap along it, or a
+// twisted pair's two strands lie side by side along it, and one region alone must pair a
+// strand with the link that carries both (whether the mask shows the link wider than its
+// neighbours or not: a thin DLO over a wide one does not widen it). At most one of the two
+// may have an odd exit count (a DLO ends there, e.g. on the crossing of two others): the
+// joined region then leaves one exit unpaired too, so the costs compare like with like;
+// two odd ones are pair_lone_ys's case. When no two qualify, three in a row (two links,
+// each as above) become one if joined they gain three times `min_gain` (plus twice
+// `min_gain` per long link): a thin DLO hidden under a wide one from one region to the
+// next but one, across a third DLO's crossing, where neither end region gains enough
+// joined to the middle one alone. Returns the merges made (two for three regions).
 int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
                                   TangentCache& tangents, double max_link, double min_gain,
                                   double long_link = 0);

@@ -72,8 +72,9 @@ struct DetectorConfig {
   // Two crossing regions joined by a branch up to epsilon_radii long become one when
   // pairing their exits together costs this much less (bending energy units) than pairing
   // each alone (bending.h, merge_regions_by_pairing_cost), and by a branch up to wide_radii
-  // when it costs three times this much less; so do two regions each leaving a strand
-  // ending, joined by a branch up to wide_radii (pair_lone_ys). Large values turn it off.
+  // when it costs three times this much less, as do three regions in a row; so do two
+  // regions each leaving a strand ending, joined by a branch up to wide_radii
+  // (pair_lone_ys). Large values turn it off.
   double merge_gain = 1.0;
   // Two Ys joined by a branch longer than epsilon_radii and up to wide_radii, each leaving
   // a strand ending there, are one crossing when those two strands continue each other at
