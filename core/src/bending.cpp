@@ -563,11 +563,10 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
           }
     }
     if (best.links.empty()) return merged;
+    // The exits are set by the last absorb: those of the whole merge, already listed.
     for (size_t k = 0; k < best.gone.size(); ++k) {
-      CrossingRegion& keep = regions[best.keep];
-      const CrossingRegion& gone = regions[best.gone[k]];
-      absorb_region(g, keep, gone, best.links[k],
-                    k + 1 == best.gone.size() ? std::move(best.exits) : exits_but({&keep, &gone}, {best.links[k]}));
+      absorb_region(g, regions[best.keep], regions[best.gone[k]], best.links[k],
+                    k + 1 == best.gone.size() ? std::move(best.exits) : std::vector<BranchEnd>());
       ++merged;
     }
     std::sort(best.gone.rbegin(), best.gone.rend());  // erased last first
