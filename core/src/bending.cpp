@@ -590,7 +590,8 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
   const std::vector<int> region_of = region_of_nodes(g, regions);
   struct Candidate {
     double cost;
-    int link, ra, rb;
+    int ra;                       // the region that takes in the others
+    std::vector<int> gone, links;  // each through its link
     std::vector<BranchEnd> exits;
   };
   std::vector<Candidate> candidates;
@@ -640,17 +641,63 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
                           pairing_cost(t, pairs, setup.colour_weight);
       if (gain >= min_gain) joined = true, cost = -gain;
     }
-    if (joined) candidates.push_back({cost, i, ra, rb, std::move(exits)});
+    if (joined) candidates.push_back({cost, ra, {rb}, {i}, std::move(exits)});
+  }
+  // Two plain Ys with the crossing of other strands between them, each joined to it by a
+  // link as above: two strands lie along each other from one Y to the other (twisting, or
+  // overlapping at a shallow angle), and a third DLO crosses both on the way. Joined, the
+  // three are one crossing when the least-cost pairing of all their exits joins each exit
+  // of one Y to one of the other, at most max_cost each, and pairs the middle region's exits
+  // among themselves.
+  for (int m = 0; m < static_cast<int>(regions.size()); ++m) {
+    const CrossingRegion& mid = regions[m];
+    if (mid.exits.size() % 2) continue;
+    std::vector<std::pair<int, int>> ys;  // (link, region): plain Ys linked to m
+    for (const BranchEnd& e : mid.exits) {
+      const Branch& b = g.branches[e.branch];
+      if (!b.alive || b.twin >= 0 || b.length <= min_link || b.length > max_link) continue;
+      const int other = region_of[b.node[1 - e.side]];
+      if (other >= 0 && other != m && regions[other].exits.size() == 3) ys.push_back({e.branch, other});
+    }
+    for (size_t x = 0; x < ys.size(); ++x)
+      for (size_t y = x + 1; y < ys.size(); ++y) {
+        const auto [i, ra] = ys[x];
+        const auto [j, rc] = ys[y];
+        if (ra == rc || i == j) continue;
+        const CrossingRegion &a = regions[ra], &c = regions[rc];
+        std::vector<BranchEnd> exits = exits_but({&a, &mid, &c}, {i, j});
+        // Exits [0, 2) are a's, [size - 2, size) c's, the middle region's between.
+        if (exits.size() != a.exits.size() + mid.exits.size() + c.exits.size() - 4 ||
+            exits.size() > kMaxExactExits)
+          continue;
+        const std::vector<BranchTangent> t = cache.of(exits);
+        const int n = static_cast<int>(exits.size());
+        const auto part = [n](int k) { return k < 2 ? 0 : k >= n - 2 ? 2 : 1; };
+        bool through = true;
+        double worst = 0;
+        for (const auto& [u, v] : min_energy_pairing(t, setup.colour_weight)) {
+          const int pu = part(u), pv = part(v);
+          if (pu == 1 && pv == 1) continue;
+          through &= pu + pv == 2 && pu != 1;
+          worst = std::max(worst, pair_cost(t[u], t[v], setup.colour_weight));
+        }
+        if (through && worst <= max_cost) candidates.push_back({worst, m, {ra, rc}, {i, j}, std::move(exits)});
+      }
   }
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& x, const Candidate& y) { return x.cost < y.cost; });
   std::vector<bool> used(regions.size(), false), erase(regions.size(), false);
   int merged = 0;
   for (Candidate& k : candidates) {
-    if (used[k.ra] || used[k.rb]) continue;
-    used[k.ra] = used[k.rb] = erase[k.rb] = true;
-    absorb_region(g, regions[k.ra], regions[k.rb], k.link, std::move(k.exits));
-    ++merged;
+    if (used[k.ra] || std::any_of(k.gone.begin(), k.gone.end(), [&](int r) { return used[r]; })) continue;
+    used[k.ra] = true;
+    for (size_t x = 0; x < k.gone.size(); ++x) {
+      used[k.gone[x]] = erase[k.gone[x]] = true;
+      // The exits are set by the last absorb: those of the whole merge, already listed.
+      absorb_region(g, regions[k.ra], regions[k.gone[x]], k.links[x],
+                    x + 1 == k.gone.size() ? std::move(k.exits) : std::vector<BranchEnd>());
+      ++merged;
+    }
   }
   if (merged == 0) return 0;
   int kept = 0;

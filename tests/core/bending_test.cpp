@@ -562,5 +562,54 @@ TEST(Bending, RegionsEachPairingTheLinkDearlyAreOneCrossing) {
   }
 }
 
+// Two strands lie along each other from one Y to another (a twisted pair, or two strands
+// overlapping at a shallow angle), and a white DLO crosses both on the way: between the Ys
+// is a crossing of four exits, linked to each. Neither Y is linked to the other, so neither
+// the Y-pair rule nor a merge of two regions applies, and each Y alone leaves a strand
+// ending. Joined, all three pair each Y's strand with its continuation at the other and the
+// white with itself: one crossing.
+TEST(Bending, TwoYsWithACrossingBetweenThemAreOneCrossing) {
+  HandGraph h;
+  h.bgr = cv::Mat(200, 320, CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Scalar red(40, 40, 200), blue(200, 90, 30), white(230, 230, 230), purple(120, 65, 115);
+  const int y1 = h.node({100, 100}, Node::Kind::junction), m = h.node({160, 100}, Node::Kind::junction),
+            y2 = h.node({220, 100}, Node::Kind::junction);
+  const int red_in = h.branch(h.node({40, 85}, Node::Kind::end), y1, red);
+  const int blue_in = h.branch(h.node({40, 120}, Node::Kind::end), y1, blue);
+  const int blue_out = h.branch(y2, h.node({280, 85}, Node::Kind::end), blue);
+  const int red_out = h.branch(y2, h.node({280, 120}, Node::Kind::end), red);
+  h.branch(y1, m, purple);  // both strands, side by side or overlapping
+  h.branch(m, y2, purple);
+  const int white_in = h.branch(h.node({160, 30}, Node::Kind::end), m, white);
+  const int white_out = h.branch(m, h.node({160, 170}, Node::Kind::end), white);
+  SkeletonGraph& g = h.graph;
+  const PairingSetup setup{2, 8, h.bgr, 4.0};
+  {
+    SkeletonGraph untouched = g;
+    TangentCache cache(untouched, setup);
+    std::vector<CrossingRegion> regions = h.regions_of({y1, m, y2});
+    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 30, 200, 1e-3), 0)
+        << "strands that cannot continue each other at so low a cost: not joined";
+    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 70, 200, 4.0), 0)
+        << "links no longer than min_link are the Y-pair rule's: not joined";
+  }
+  TangentCache cache(g, setup);
+  std::vector<CrossingRegion> regions = h.regions_of({y1, m, y2});
+  ASSERT_EQ(pair_lone_ys(g, regions, cache, 30, 200, 4.0), 2);
+  ASSERT_EQ(regions.size(), 1u);
+  ASSERT_EQ(regions[0].exits.size(), 6u);
+  const std::vector<BranchTangent> t = cache.of(regions[0].exits);
+  const auto pairs = min_energy_pairing(t, setup.colour_weight);
+  ASSERT_EQ(pairs.size(), 3u);
+  for (const auto& [i, j] : pairs) {
+    const int bi = std::min(regions[0].exits[i].branch, regions[0].exits[j].branch);
+    const int bj = std::max(regions[0].exits[i].branch, regions[0].exits[j].branch);
+    EXPECT_TRUE((bi == std::min(red_in, red_out) && bj == std::max(red_in, red_out)) ||
+                (bi == std::min(blue_in, blue_out) && bj == std::max(blue_in, blue_out)) ||
+                (bi == white_in && bj == white_out))
+        << "branches " << bi << " and " << bj;
+  }
+}
+
 }  // namespace
 }  // namespace mbest

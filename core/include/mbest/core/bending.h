@@ -165,8 +165,12 @@ class TangentCache {
 // together costs at least `min_gain` less than pairing each region alone (as
 // merge_regions_by_pairing_cost, though joined the two strands left ending pair too): a
 // shallow crossing whose Ys each paired a strand with the link between them because the
-// link's colour mixes both strands. Cheapest first (a gain counting as its negative cost),
-// each region once. Returns the pairs joined.
+// link's colour mixes both strands. Also two plain Ys each linked as above to a region of
+// even exit count between them (a third DLO crossing two strands that lie along each other
+// from one Y to the other): the three are one crossing when the joined least-cost pairing
+// joins each exit of one Y to one of the other, at most `max_cost` each, and the middle
+// region's exits among themselves. Cheapest first (a gain counting as its negative cost),
+// each region once. Returns the joins made (two for a Y, a crossing and a Y).
 int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, TangentCache& cache,
                  double min_link, double max_link, double max_cost,
                  double min_gain = std::numeric_limits<double>::infinity());
