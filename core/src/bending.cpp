@@ -106,6 +106,16 @@ void absorb_region(SkeletonGraph& g, CrossingRegion& a, const CrossingRegion& c,
   g.branches[link].alive = false;
 }
 
+// Makes each region gone[k] part of region `keep` through its link links[k], in turn;
+// `exits` are those of the whole merge, set by the last absorb.
+void absorb_regions(SkeletonGraph& g, CrossingRegion& keep, const std::vector<CrossingRegion>& regions,
+                    const std::vector<int>& gone, const std::vector<int>& links,
+                    std::vector<BranchEnd> exits) {
+  for (size_t k = 0; k < gone.size(); ++k)
+    absorb_region(g, keep, regions[gone[k]], links[k],
+                  k + 1 == gone.size() ? std::move(exits) : std::vector<BranchEnd>());
+}
+
 // The tangent at point(first) of the chain point(first..last) (unit, pointing along it):
 // the derivative at arc length 0 of the least-squares quadratics x(s), y(s). Zero when the
 // normal equations are singular.
@@ -563,12 +573,8 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
           }
     }
     if (best.links.empty()) return merged;
-    // The exits are set by the last absorb: those of the whole merge, already listed.
-    for (size_t k = 0; k < best.gone.size(); ++k) {
-      absorb_region(g, regions[best.keep], regions[best.gone[k]], best.links[k],
-                    k + 1 == best.gone.size() ? std::move(best.exits) : std::vector<BranchEnd>());
-      ++merged;
-    }
+    absorb_regions(g, regions[best.keep], regions, best.gone, best.links, std::move(best.exits));
+    merged += static_cast<int>(best.gone.size());
     std::sort(best.gone.rbegin(), best.gone.rend());  // erased last first
     for (int r : best.gone) regions.erase(regions.begin() + r);
   }
@@ -691,13 +697,9 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
   for (Candidate& k : candidates) {
     if (used[k.ra] || std::any_of(k.gone.begin(), k.gone.end(), [&](int r) { return used[r]; })) continue;
     used[k.ra] = true;
-    for (size_t x = 0; x < k.gone.size(); ++x) {
-      used[k.gone[x]] = erase[k.gone[x]] = true;
-      // The exits are set by the last absorb: those of the whole merge, already listed.
-      absorb_region(g, regions[k.ra], regions[k.gone[x]], k.links[x],
-                    x + 1 == k.gone.size() ? std::move(k.exits) : std::vector<BranchEnd>());
-      ++merged;
-    }
+    for (int r : k.gone) used[r] = erase[r] = true;
+    absorb_regions(g, regions[k.ra], regions, k.gone, k.links, std::move(k.exits));
+    merged += static_cast<int>(k.gone.size());
   }
   if (merged == 0) return 0;
   int kept = 0;
