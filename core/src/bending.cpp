@@ -84,7 +84,7 @@ std::vector<int> region_of_nodes(const SkeletonGraph& g, const std::vector<Cross
 // The exits of `regions` joined through their `links` branches: each region's in turn,
 // without the links'.
 std::vector<BranchEnd> exits_but(std::initializer_list<const CrossingRegion*> regions,
-                                 std::initializer_list<int> links) {
+                                 const std::vector<int>& links) {
   std::vector<BranchEnd> exits;
   for (const CrossingRegion* r : regions)
     for (const BranchEnd& e : r->exits)
@@ -499,6 +499,7 @@ struct Merge {
   int keep = -1;
   std::vector<int> gone, links;
   std::vector<BranchEnd> exits;
+  std::vector<int> beside;  // further links between the same two regions: inner too
 };
 
 }  // namespace
@@ -540,22 +541,38 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
     // dearly, are not worth pairing exactly.
     Merge best;
     const auto consider = [&](double alone, int keep, std::vector<int> gone, std::vector<int> through,
-                              const auto& joined_exits) {
+                              std::vector<int> beside, const auto& joined_exits) {
       if (alone <= best.gain) return;
       std::vector<BranchEnd> exits = joined_exits();
       if (exits.size() < 3 || exits.size() > kMaxExactExits) return;
       if (alone - cache.least_cost_bound(exits) <= best.gain) return;
       const double gain = alone - cache.least_cost(exits);
-      if (gain > best.gain) best = {gain, keep, std::move(gone), std::move(through), std::move(exits)};
+      if (gain > best.gain)
+        best = {gain, keep, std::move(gone), std::move(through), std::move(exits), std::move(beside)};
     };
-    // Two regions, through one link.
+    // Two regions, through one link; or, where two or more links join them and all are
+    // short (two strands crossing twice a few radii apart, or lying side by side with a
+    // pinhole between them), through all at once: each region alone must pair a strand with
+    // whichever link bends least, and the links' colours, each partly covered by the other
+    // strand, do not tell which strand runs along which.
     best.gain = min_gain;
     for (int i : links) {
       const int ra = region_of[g.branches[i].node[0]], rb = region_of[g.branches[i].node[1]];
       // Two strands end there, one each: joining would pair them (pair_lone_ys).
       if (regions[ra].exits.size() % 2 && regions[rb].exits.size() % 2) continue;
+      // Where all the links between the two are short, through all of them at once.
+      std::vector<int> through{i}, parallel;
+      for (int j : links_of[ra])
+        if (other_region(j, ra) == rb) parallel.push_back(j);
+      if (parallel.size() > 1 && std::all_of(parallel.begin(), parallel.end(), [&](int j) {
+            return g.branches[j].length <= max_link;
+          })) {
+        if (parallel.front() != i) continue;  // the two regions once
+        through = std::move(parallel);
+      }
       consider(cost_of(ra) + cost_of(rb) - link_allowance(i), ra, {rb}, {i},
-               [&] { return exits_but({&regions[ra], &regions[rb]}, {i}); });
+               std::vector<int>(through.begin() + 1, through.end()),
+               [&] { return exits_but({&regions[ra], &regions[rb]}, through); });
     }
     // Failing that, three in a row through two links, for three times min_gain: a strand
     // may need all three to pair right where neither end region gains enough joined to the
@@ -569,11 +586,15 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
             const int ra = other_region(i, m), rc = other_region(j, m);
             if (ra == rc) continue;
             consider(cost_of(ra) + cost_of(m) + cost_of(rc) - link_allowance(i) - link_allowance(j), m,
-                     {ra, rc}, {i, j}, [&] { return exits_but({&regions[ra], &regions[m], &regions[rc]}, {i, j}); });
+                     {ra, rc}, {i, j}, {}, [&] { return exits_but({&regions[ra], &regions[m], &regions[rc]}, {i, j}); });
           }
     }
     if (best.links.empty()) return merged;
     absorb_regions(g, regions[best.keep], regions, best.gone, best.links, std::move(best.exits));
+    for (int j : best.beside) {  // inner, like the link absorb_region takes
+      regions[best.keep].inner_branches.push_back(j);
+      g.branches[j].alive = false;
+    }
     merged += static_cast<int>(best.gone.size());
     std::sort(best.gone.rbegin(), best.gone.rend());  // erased last first
     for (int r : best.gone) regions.erase(regions.begin() + r);

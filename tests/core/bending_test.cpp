@@ -208,11 +208,22 @@ struct HandGraph {
     return static_cast<int>(graph.nodes.size()) - 1;
   }
   int branch(int from, int to, const cv::Scalar& colour = cv::Scalar()) {
+    return branch_via(from, {}, to, colour);
+  }
+  // A branch bent at `via` (none: straight).
+  int branch_via(int from, std::vector<cv::Point> via, int to, const cv::Scalar& colour = cv::Scalar()) {
     Branch br;
     const cv::Point p = graph.nodes[from].pixels[0], q = graph.nodes[to].pixels[0];
-    cv::LineIterator it(p, q, 8);
-    for (int k = 0; k < it.count; ++k, ++it)
-      if (k > 0 && k < it.count - 1) br.pixels.push_back(it.pos());
+    std::vector<cv::Point> corners{p};
+    corners.insert(corners.end(), via.begin(), via.end());
+    corners.push_back(q);
+    for (size_t c = 0; c + 1 < corners.size(); ++c) {
+      cv::LineIterator it(corners[c], corners[c + 1], 8);
+      // Not the nodes; a corner once, as the last pixel of the segment before it.
+      for (int k = 0; k < it.count; ++k, ++it)
+        if (k > 0 && !(c + 2 == corners.size() && k == it.count - 1)) br.pixels.push_back(it.pos());
+      if (!bgr.empty()) cv::line(bgr, corners[c], corners[c + 1], colour, 5);
+    }
     br.radius.assign(br.pixels.size(), 3.0f);
     br.node[0] = from;
     br.node[1] = to;
@@ -221,7 +232,6 @@ struct HandGraph {
     const int i = static_cast<int>(graph.branches.size()) - 1;
     graph.nodes[from].branch_ends.push_back({i, 0});
     graph.nodes[to].branch_ends.push_back({i, 1});
-    if (!bgr.empty()) cv::line(bgr, p, q, colour, 5);
     return i;
   }
   // Each of `junctions` as a crossing region of its own.
@@ -607,6 +617,44 @@ TEST(Bending, TwoYsWithACrossingBetweenThemAreOneCrossing) {
     EXPECT_TRUE((bi == std::min(red_in, red_out) && bj == std::max(red_in, red_out)) ||
                 (bi == std::min(blue_in, blue_out) && bj == std::max(blue_in, blue_out)) ||
                 (bi == white_in && bj == white_out))
+        << "branches " << bi << " and " << bj;
+  }
+}
+
+// Two strands crossing twice a few radii apart, with an eye between the crossings: each
+// crossing is a region of four exits, and the eye's two sides are two short links between
+// them. Both sides show a mix of the strands' colours (each covers part of the other), so
+// each region alone pays a colour change whichever side it pairs a strand with. Joined
+// through both links at once, every strand keeps its colour.
+TEST(Bending, RegionsJoinedByTwoShortLinksMergeThroughBoth) {
+  HandGraph h;
+  h.bgr = cv::Mat(200, 260, CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Scalar red(40, 40, 200), blue(200, 90, 30), purple(120, 65, 115);
+  const int a = h.node({100, 100}, Node::Kind::junction), b = h.node({150, 100}, Node::Kind::junction);
+  const int upper = h.branch_via(a, {{125, 90}}, b, purple);
+  const int lower = h.branch_via(a, {{125, 110}}, b, purple);
+  const int red_in = h.branch(h.node({40, 70}, Node::Kind::end), a, red);
+  const int blue_in = h.branch(h.node({40, 130}, Node::Kind::end), a, blue);
+  const int red_out = h.branch(b, h.node({210, 130}, Node::Kind::end), red);
+  const int blue_out = h.branch(b, h.node({210, 70}, Node::Kind::end), blue);
+  ASSERT_LT(h.graph.branches[upper].length, 60);
+  ASSERT_LT(h.graph.branches[lower].length, 60);
+  const PairingSetup setup{2, 8, h.bgr, 4.0};
+  TangentCache tangents(h.graph, setup);
+  std::vector<CrossingRegion> regions = h.regions_of({a, b});
+  ASSERT_EQ(merge_regions_by_pairing_cost(h.graph, regions, tangents, 60, 1.0), 1);
+  ASSERT_EQ(regions.size(), 1u);
+  ASSERT_EQ(regions[0].exits.size(), 4u) << "both links are inside the crossing";
+  EXPECT_FALSE(h.graph.branches[upper].alive);
+  EXPECT_FALSE(h.graph.branches[lower].alive);
+  const std::vector<BranchTangent> t = tangents.of(regions[0].exits);
+  const auto pairs = min_energy_pairing(t, setup.colour_weight);
+  ASSERT_EQ(pairs.size(), 2u);
+  for (const auto& [i, j] : pairs) {
+    const int bi = std::min(regions[0].exits[i].branch, regions[0].exits[j].branch);
+    const int bj = std::max(regions[0].exits[i].branch, regions[0].exits[j].branch);
+    EXPECT_TRUE((bi == std::min(red_in, red_out) && bj == std::max(red_in, red_out)) ||
+                (bi == std::min(blue_in, blue_out) && bj == std::max(blue_in, blue_out)))
         << "branches " << bi << " and " << bj;
   }
 }

@@ -189,10 +189,14 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 // neighbours or not: a thin DLO over a wide one does not widen it). At most one of the two
 // may have an odd exit count (a DLO ends there, e.g. on the crossing of two others): the
 // joined region then leaves one exit unpaired too, so the costs compare like with like;
-// two odd ones are pair_lone_ys's case. When no two qualify, three in a row (two links,
-// each as above) become one if joined they gain three times `min_gain` (plus twice
-// `min_gain` per long link): a thin DLO hidden under a wide one from one region to the
-// next but one, across a third DLO's crossing, where neither end region gains enough
+// two odd ones are pair_lone_ys's case. Where two or more links up to `max_link` join the
+// same two regions (a rod through a small loop of another, or two strands crossing twice
+// a few radii apart), the two are weighed through all of them at once, and all become
+// inner: merged through one, the others would be left as exits of the joined region on
+// both sides, which the pairing treats as strands. When no two qualify, three in a row
+// (two links, each as above) become one if joined they gain three times `min_gain` (plus
+// twice `min_gain` per long link): a thin DLO hidden under a wide one from one region to
+// the next but one, across a third DLO's crossing, where neither end region gains enough
 // joined to the middle one alone. Returns the merges made (two for three regions).
 int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
                                   TangentCache& tangents, double max_link, double min_gain,
