@@ -515,15 +515,19 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       if (cost[r] < 0) cost[r] = cache.least_cost(regions[r].exits);
       return cost[r];
     };
-    // Links: branches up to max_link, or long_link, joining two regions (twins carry a
-    // strand each). A long one asks twice min_gain more: past max_link the strands at its
-    // two ends are far apart, and a pairing cost is a weaker cue there.
+    // Links: branches up to max_link, or long_link, joining two regions. A long one asks
+    // twice min_gain more: past max_link the strands at its two ends are far apart, and a
+    // pairing cost is a weaker cue there. Twins (a band split into its two strands, each
+    // carrying one) are links only where both are short, and then only together, as the
+    // parallel links below: where the strands overlap, both twins show the top strand's
+    // colour, and each region alone pairs the strands with them by their bends only.
     std::vector<int> links;
     std::vector<std::vector<int>> links_of(regions.size());
     const auto link_allowance = [&](int i) { return g.branches[i].length > max_link ? 2 * min_gain : 0.0; };
     for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
       const Branch& b = g.branches[i];
-      if (!b.alive || b.twin >= 0 || b.length > std::max(max_link, long_link)) continue;
+      if (!b.alive || b.length > std::max(max_link, long_link)) continue;
+      if (b.twin >= 0 && std::max(b.length, g.branches[b.twin].length) > max_link) continue;
       const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
       if (ra < 0 || rb < 0 || ra == rb) continue;
       links.push_back(i);
@@ -583,6 +587,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
         for (size_t x = 0; x < links_of[m].size(); ++x)
           for (size_t y = x + 1; y < links_of[m].size(); ++y) {
             const int i = links_of[m][x], j = links_of[m][y];
+            if (g.branches[i].twin >= 0 || g.branches[j].twin >= 0) continue;  // in pairs only
             const int ra = other_region(i, m), rc = other_region(j, m);
             if (ra == rc) continue;
             consider(cost_of(ra) + cost_of(m) + cost_of(rc) - link_allowance(i) - link_allowance(j), m,

@@ -625,37 +625,62 @@ TEST(Bending, TwoYsWithACrossingBetweenThemAreOneCrossing) {
 // crossing is a region of four exits, and the eye's two sides are two short links between
 // them. Both sides show a mix of the strands' colours (each covers part of the other), so
 // each region alone pays a colour change whichever side it pairs a strand with. Joined
-// through both links at once, every strand keeps its colour.
-TEST(Bending, RegionsJoinedByTwoShortLinksMergeThroughBoth) {
+// through both links at once, every strand keeps its colour. The same holds where the two
+// sides are twins (a band of two strands split in two between two Ys, which became these
+// crossings): but only while both are short, as any link.
+struct Eye {
   HandGraph h;
-  h.bgr = cv::Mat(200, 260, CV_8UC3, cv::Scalar(0, 0, 0));
-  const cv::Scalar red(40, 40, 200), blue(200, 90, 30), purple(120, 65, 115);
-  const int a = h.node({100, 100}, Node::Kind::junction), b = h.node({150, 100}, Node::Kind::junction);
-  const int upper = h.branch_via(a, {{125, 90}}, b, purple);
-  const int lower = h.branch_via(a, {{125, 110}}, b, purple);
-  const int red_in = h.branch(h.node({40, 70}, Node::Kind::end), a, red);
-  const int blue_in = h.branch(h.node({40, 130}, Node::Kind::end), a, blue);
-  const int red_out = h.branch(b, h.node({210, 130}, Node::Kind::end), red);
-  const int blue_out = h.branch(b, h.node({210, 70}, Node::Kind::end), blue);
-  ASSERT_LT(h.graph.branches[upper].length, 60);
-  ASSERT_LT(h.graph.branches[lower].length, 60);
-  const PairingSetup setup{2, 8, h.bgr, 4.0};
-  TangentCache tangents(h.graph, setup);
-  std::vector<CrossingRegion> regions = h.regions_of({a, b});
-  ASSERT_EQ(merge_regions_by_pairing_cost(h.graph, regions, tangents, 60, 1.0), 1);
-  ASSERT_EQ(regions.size(), 1u);
-  ASSERT_EQ(regions[0].exits.size(), 4u) << "both links are inside the crossing";
-  EXPECT_FALSE(h.graph.branches[upper].alive);
-  EXPECT_FALSE(h.graph.branches[lower].alive);
-  const std::vector<BranchTangent> t = tangents.of(regions[0].exits);
-  const auto pairs = min_energy_pairing(t, setup.colour_weight);
-  ASSERT_EQ(pairs.size(), 2u);
-  for (const auto& [i, j] : pairs) {
-    const int bi = std::min(regions[0].exits[i].branch, regions[0].exits[j].branch);
-    const int bj = std::max(regions[0].exits[i].branch, regions[0].exits[j].branch);
-    EXPECT_TRUE((bi == std::min(red_in, red_out) && bj == std::max(red_in, red_out)) ||
-                (bi == std::min(blue_in, blue_out) && bj == std::max(blue_in, blue_out)))
-        << "branches " << bi << " and " << bj;
+  int upper, lower, red_in, blue_in, red_out, blue_out;
+  std::vector<CrossingRegion> regions;
+  explicit Eye(bool twins) {
+    h.bgr = cv::Mat(200, 260, CV_8UC3, cv::Scalar(0, 0, 0));
+    const cv::Scalar red(40, 40, 200), blue(200, 90, 30), purple(120, 65, 115);
+    const int a = h.node({100, 100}, Node::Kind::junction), b = h.node({150, 100}, Node::Kind::junction);
+    upper = h.branch_via(a, {{125, 90}}, b, purple);
+    lower = h.branch_via(a, {{125, 110}}, b, purple);
+    if (twins) {
+      h.graph.branches[upper].twin = lower;
+      h.graph.branches[lower].twin = upper;
+    }
+    red_in = h.branch(h.node({40, 70}, Node::Kind::end), a, red);
+    blue_in = h.branch(h.node({40, 130}, Node::Kind::end), a, blue);
+    red_out = h.branch(b, h.node({210, 130}, Node::Kind::end), red);
+    blue_out = h.branch(b, h.node({210, 70}, Node::Kind::end), blue);
+    regions = h.regions_of({a, b});
+  }
+};
+
+TEST(Bending, RegionsJoinedByTwoShortLinksMergeThroughBoth) {
+  for (const bool twins : {false, true}) {
+    Eye eye(twins);
+    const double length = std::max(eye.h.graph.branches[eye.upper].length, eye.h.graph.branches[eye.lower].length);
+    ASSERT_LT(length, 60);
+    const PairingSetup setup{2, 8, eye.h.bgr, 4.0};
+    if (twins) {
+      SkeletonGraph untouched = eye.h.graph;
+      std::vector<CrossingRegion> regions = eye.regions;
+      TangentCache tangents(untouched, setup);
+      EXPECT_EQ(merge_regions_by_pairing_cost(untouched, regions, tangents, length - 1, 1.0, 200), 0)
+          << "twins longer than max_link are no links, even up to long_link";
+    }
+    SkeletonGraph& g = eye.h.graph;
+    TangentCache tangents(g, setup);
+    std::vector<CrossingRegion>& regions = eye.regions;
+    ASSERT_EQ(merge_regions_by_pairing_cost(g, regions, tangents, 60, 1.0), 1) << "twins " << twins;
+    ASSERT_EQ(regions.size(), 1u);
+    ASSERT_EQ(regions[0].exits.size(), 4u) << "both links are inside the crossing";
+    EXPECT_FALSE(g.branches[eye.upper].alive);
+    EXPECT_FALSE(g.branches[eye.lower].alive);
+    const std::vector<BranchTangent> t = tangents.of(regions[0].exits);
+    const auto pairs = min_energy_pairing(t, setup.colour_weight);
+    ASSERT_EQ(pairs.size(), 2u);
+    for (const auto& [i, j] : pairs) {
+      const int bi = std::min(regions[0].exits[i].branch, regions[0].exits[j].branch);
+      const int bj = std::max(regions[0].exits[i].branch, regions[0].exits[j].branch);
+      EXPECT_TRUE((bi == std::min(eye.red_in, eye.red_out) && bj == std::max(eye.red_in, eye.red_out)) ||
+                  (bi == std::min(eye.blue_in, eye.blue_out) && bj == std::max(eye.blue_in, eye.blue_out)))
+          << "twins " << twins << ": branches " << bi << " and " << bj;
+    }
   }
 }
 
