@@ -555,16 +555,14 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
         best = {gain, keep, std::move(gone), std::move(through), std::move(exits), std::move(beside)};
     };
     // Two regions, through one link; or, where two or more links join them and all are
-    // short (two strands crossing twice a few radii apart, or lying side by side with a
-    // pinhole between them), through all at once: each region alone must pair a strand with
-    // whichever link bends least, and the links' colours, each partly covered by the other
-    // strand, do not tell which strand runs along which.
+    // short (a rod through a small loop of another, two strands crossing twice a few radii
+    // apart, short twins), through all at once: merged through one, the others would be
+    // left as exits of the joined region on both sides, paired as if they were strands.
     best.gain = min_gain;
     for (int i : links) {
       const int ra = region_of[g.branches[i].node[0]], rb = region_of[g.branches[i].node[1]];
       // Two strands end there, one each: joining would pair them (pair_lone_ys).
       if (regions[ra].exits.size() % 2 && regions[rb].exits.size() % 2) continue;
-      // Where all the links between the two are short, through all of them at once.
       std::vector<int> through{i}, parallel;
       for (int j : links_of[ra])
         if (other_region(j, ra) == rb) parallel.push_back(j);
