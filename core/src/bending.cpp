@@ -92,28 +92,35 @@ std::vector<BranchEnd> exits_but(std::initializer_list<const CrossingRegion*> re
   return exits;
 }
 
-// Makes region `c` part of region `a` through their `link` branch (marked dead, now inner):
-// `a` takes c's nodes and inner branches, `exits` and the mean centre of all its nodes.
+// Makes branch `link` part of the inside of region `a` (marked dead).
+void make_inner(SkeletonGraph& g, CrossingRegion& a, int link) {
+  a.inner_branches.push_back(link);
+  g.branches[link].alive = false;
+}
+
+// Makes region `c` part of region `a` through their `link` branch (made inner): `a` takes
+// c's nodes and inner branches, `exits` and the mean centre of all its nodes.
 void absorb_region(SkeletonGraph& g, CrossingRegion& a, const CrossingRegion& c, int link,
                    std::vector<BranchEnd> exits) {
   a.nodes.insert(a.nodes.end(), c.nodes.begin(), c.nodes.end());
   a.inner_branches.insert(a.inner_branches.end(), c.inner_branches.begin(), c.inner_branches.end());
-  a.inner_branches.push_back(link);
+  make_inner(g, a, link);
   a.exits = std::move(exits);
   cv::Point2f centre(0, 0);
   for (int n : a.nodes) centre += g.nodes[n].centre;
   a.centre = centre * (1.0f / static_cast<float>(a.nodes.size()));
-  g.branches[link].alive = false;
 }
 
-// Makes each region gone[k] part of region `keep` through its link links[k], in turn;
-// `exits` are those of the whole merge, set by the last absorb.
+// Makes each region gone[k] part of region `keep` through its link links[k], in turn, and
+// the branches `beside` (further links between the same regions) inner too; `exits` are
+// those of the whole merge, set by the last absorb.
 void absorb_regions(SkeletonGraph& g, CrossingRegion& keep, const std::vector<CrossingRegion>& regions,
                     const std::vector<int>& gone, const std::vector<int>& links,
-                    std::vector<BranchEnd> exits) {
+                    std::vector<BranchEnd> exits, const std::vector<int>& beside = {}) {
   for (size_t k = 0; k < gone.size(); ++k)
     absorb_region(g, keep, regions[gone[k]], links[k],
                   k + 1 == gone.size() ? std::move(exits) : std::vector<BranchEnd>());
+  for (int link : beside) make_inner(g, keep, link);
 }
 
 // The tangent at point(first) of the chain point(first..last) (unit, pointing along it):
@@ -593,11 +600,8 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
           }
     }
     if (best.links.empty()) return merged;
-    absorb_regions(g, regions[best.keep], regions, best.gone, best.links, std::move(best.exits));
-    for (int j : best.beside) {  // inner, like the link absorb_region takes
-      regions[best.keep].inner_branches.push_back(j);
-      g.branches[j].alive = false;
-    }
+    absorb_regions(g, regions[best.keep], regions, best.gone, best.links, std::move(best.exits),
+                   best.beside);
     merged += static_cast<int>(best.gone.size());
     std::sort(best.gone.rbegin(), best.gone.rend());  // erased last first
     for (int r : best.gone) regions.erase(regions.begin() + r);
