@@ -194,8 +194,6 @@ TEST(Bending, ColourDecidesBetweenPairingsGeometryCannotTellApart) {
   EXPECT_EQ(min_energy_pairing(grey, 2.0), plain);
 }
 
-// A skeleton graph drawn by hand: nodes at points, straight branches between them (radius
-// 3), each branch also drawn 5 px wide in its colour into `bgr` when that is set.
 // A strand through a crossing, as the two exit branches it joins (lower index first).
 using Strand = std::pair<int, int>;
 Strand strand(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
@@ -208,6 +206,8 @@ std::set<Strand> strands_of(const CrossingRegion& region, TangentCache& cache) {
   return out;
 }
 
+// A skeleton graph drawn by hand: nodes at points, straight or bent branches between them
+// (radius 3), each branch also drawn 5 px wide in its colour into `bgr` when that is set.
 struct HandGraph {
   SkeletonGraph graph;
   cv::Mat bgr;
