@@ -295,6 +295,7 @@ constexpr ConfigField kConfigFields[] = {
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
+    {"unlike_end_energy", &DetectorConfig::unlike_end_energy, 0, 1000},
     {"border_fold_energy", &DetectorConfig::border_fold_energy, 0, 1000},
     {"colour_label_margin", &DetectorConfig::colour_label_margin, 0, 1000},
     {"side_by_side_radii", &DetectorConfig::side_by_side_radii, 0, 1000}};
@@ -382,7 +383,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
                  config.lone_y_cost, config.merge_gain);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
                                   config.merge_gain, config.wide_radii * r);
-    return build_passages(regions, tangents, config.fold_energy);
+    return build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy);
   });
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);

@@ -680,5 +680,69 @@ TEST(Bending, RegionsJoinedByTwoShortLinksMergeThroughBoth) {
   }
 }
 
+constexpr double kOff = std::numeric_limits<double>::infinity();
+
+// A red rod runs left to right through a junction where two more DLOs end, coming in at
+// `first` and `second` degrees (image angles, y down) in the colours given; `stub` makes
+// the second one a stub of 11 px, shorter than a tangent fit (20 px here).
+struct TwoEnds {
+  SkeletonGraph graph;
+  std::vector<CrossingRegion> regions;
+  cv::Mat bgr;
+  int first = -1, second = -1;
+};
+TwoEnds two_ends_on_a_rod(double first, double second, const cv::Scalar& first_colour,
+                          const cv::Scalar& second_colour, bool stub = false) {
+  HandGraph h;
+  h.bgr = cv::Mat(200, 200, CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Scalar red(40, 40, 200);
+  const cv::Point c(100, 100);
+  const auto at = [&](double deg, double dist) {
+    return c + cv::Point(cvRound(dist * std::cos(deg * M_PI / 180)), cvRound(dist * std::sin(deg * M_PI / 180)));
+  };
+  const int j = h.node(c, Node::Kind::junction);
+  TwoEnds s;
+  s.first = h.branch(h.node(at(first, 70), Node::Kind::end), j, first_colour);
+  s.second = h.branch(h.node(at(second, stub ? 12 : 70), Node::Kind::end), j, second_colour);
+  h.branch(h.node({20, 100}, Node::Kind::end), j, red);
+  h.branch(j, h.node({180, 100}, Node::Kind::end), red);  // drawn last: the rod on top
+  s.regions = h.regions_of({j});
+  s.graph = std::move(h.graph);
+  s.bgr = h.bgr;
+  return s;
+}
+
+// Whether build_passages joins the two DLOs ending at the junction into one strand.
+bool ends_joined(TwoEnds s, double unlike_energy) {
+  const PairingSetup setup{2, 20, s.bgr, 2.0};
+  TangentCache tangents(s.graph, setup);
+  for (const Passage& p : build_passages(s.regions, tangents, kOff, unlike_energy))
+    if (strand(p.from.branch, p.to.branch) == strand(s.first, s.second)) return true;
+  return false;
+}
+
+TEST(Bending, TwoDLOsOfDifferentColoursEndingInACrossingAreNotJoined) {
+  const cv::Scalar blue(200, 90, 30), green(40, 200, 60);
+  // Both come from above, 30 degrees apart: a path through would turn 150 degrees.
+  const TwoEnds sharp = two_ends_on_a_rod(-75, -105, blue, green);
+  {
+    const PairingSetup setup{2, 20, sharp.bgr, 2.0};
+    TangentCache tangents(sharp.graph, setup);
+    const std::vector<BranchTangent> t = tangents.of(sharp.regions[0].exits);
+    ASSERT_EQ(strands_of(sharp.regions[0], tangents).count(strand(sharp.first, sharp.second)), 1u)
+        << "the least-cost pairing joins them";
+    ASSERT_EQ(colour_penalty(t[0], t[1]), kColourPenaltyMax);
+    ASSERT_GE(pair_cost(t[0], t[1], 0), 4.0);
+  }
+  EXPECT_FALSE(ends_joined(sharp, 4.0)) << "unlike colours, sharp bend: two DLOs ending";
+  EXPECT_TRUE(ends_joined(sharp, kOff)) << "the rule turned off";
+  EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-75, -105, blue, blue), 4.0))
+      << "one colour: one DLO bending sharply";
+  EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-75, -105, blue, green, /*stub=*/true), 4.0))
+      << "a stub's colour is no evidence";
+  // Nearly straight on (a 20 degree turn): a DLO whose colour changes, say under glare.
+  EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-80, 120, blue, green), 4.0)) << "a gentle bend";
+}
+
 }  // namespace
 }  // namespace mbest

@@ -206,9 +206,16 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // `tangents` was made for) and the pairing of least total cost; one Passage per pair. A
 // region with two exits (a bend the skeleton made into a junction) gets its single forced
 // passage unless it folds back with a bending energy above `fold_energy`: then both
-// strands end there.
+// strands end there. Nor does any region join two exits whose colours differ by the
+// colour penalty's cap (three tolerances) and whose path bends with an energy (without
+// colour) of at least `unlike_energy`, where both tangents come from a full fit (at least
+// kFullFitShare of fit_length; a stub's colour is no evidence): those are two DLOs that
+// end inside the crossing, whose ends the least-cost pairing joins because it pairs every
+// exit it can.
+inline constexpr double kFullFitShare = 0.9;
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
                                     TangentCache& tangents,
-                                    double fold_energy = std::numeric_limits<double>::infinity());
+                                    double fold_energy = std::numeric_limits<double>::infinity(),
+                                    double unlike_energy = std::numeric_limits<double>::infinity());
 
 }  // namespace mbest
