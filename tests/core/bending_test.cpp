@@ -712,9 +712,12 @@ TwoEnds two_ends_on_a_rod(double first, double second, const cv::Scalar& first_c
   return s;
 }
 
+// Tangents fitted over 20 px with colour: the stub is shorter than a fit.
+PairingSetup two_ends_setup(const TwoEnds& s) { return {2, 20, s.bgr, 2.0}; }
+
 // Whether build_passages joins the two DLOs ending at the junction into one strand.
-bool ends_joined(TwoEnds s, double unlike_energy) {
-  const PairingSetup setup{2, 20, s.bgr, 2.0};
+bool ends_joined(const TwoEnds& s, double unlike_energy) {
+  const PairingSetup setup = two_ends_setup(s);
   TangentCache tangents(s.graph, setup);
   for (const Passage& p : build_passages(s.regions, tangents, kOff, unlike_energy))
     if (strand(p.from.branch, p.to.branch) == strand(s.first, s.second)) return true;
@@ -726,7 +729,7 @@ TEST(Bending, TwoDLOsOfDifferentColoursEndingInACrossingAreNotJoined) {
   // Both come from above, 30 degrees apart: a path through would turn 150 degrees.
   const TwoEnds sharp = two_ends_on_a_rod(-75, -105, blue, green);
   {
-    const PairingSetup setup{2, 20, sharp.bgr, 2.0};
+    const PairingSetup setup = two_ends_setup(sharp);
     TangentCache tangents(sharp.graph, setup);
     const std::vector<BranchTangent> t = tangents.of(sharp.regions[0].exits);
     ASSERT_EQ(strands_of(sharp.regions[0], tangents).count(strand(sharp.first, sharp.second)), 1u)
