@@ -388,7 +388,10 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);
   });
-  stage("extend_ends", [&] { extend_ends(traversal.dlos, mask, r); });
+  stage("extend_ends", [&] {
+    extend_ends(traversal.dlos, mask, r);
+    return reach_past_crossings(traversal.dlos, mask, r);
+  });
   auto ordered = stage("crossing_order", [&] {
     return order_crossings(passages, static_cast<int>(regions.size()), bgr);
   });

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
+#include <utility>
 
 #include "mbest/core/geometry.h"
+#include "mbest/core/median.h"
 
 namespace mbest {
 namespace {
@@ -166,7 +170,146 @@ void extend_tail(std::vector<cv::Point>& line, std::vector<float>& radius, const
   radius.resize(line.size(), tip_radius);
 }
 
+// A ray from a DLO's end that runs across the body of another strand into a stub of mask
+// no strand covers: `steps` px of it to keep (up to half a radius short of the stub's tip,
+// or to the border), `stub` of them past the body.
+struct StubRay {
+  int steps = 0, stub = 0;
+};
+
+// A centerline pixel of another strand near a DLO's end: its body's radius and its
+// direction there (unit).
+struct BodyPixel {
+  cv::Point at;
+  float radius;
+  cv::Point2f direction;
+};
+
+// The ray from `end` along `dir`, for a DLO whose end runs along `strand`, as a StubRay if
+// it makes one within `max_steps` px: the DLO runs into another strand's body at
+// `min_angle` or more to its axis (at the axis pixel nearest the ray; a DLO along a strand,
+// beside it, finds the part of a wide overlap that strand leaves uncovered, no stub), and
+// the ray goes on into a stub reaching at least `min_stub` px from the bodies (measured
+// sideways: along a ray at a shallow angle, the margin of a body a little wider than its
+// median looks long). `others` are the centerline pixels near the end, the DLO's own last
+// pixels left out.
+std::optional<StubRay> stub_past(cv::Point2f end, cv::Point2f dir, cv::Point2f strand, int max_steps,
+                                 float min_stub, float tip_radius, double min_angle, const cv::Mat& mask,
+                                 const std::vector<BodyPixel>& others) {
+  const float min_sine = static_cast<float>(std::sin(min_angle));
+  bool crossed = false;  // the ray has run across another strand's body
+  bool inside = false;   // ... and is in one now
+  int stub = 0;          // steps since it left that body
+  float reach = 0;       // the furthest the stub gets from the bodies
+  for (int k = 1; k <= max_steps; ++k) {
+    const cv::Point p(end + dir * static_cast<float>(k));
+    const bool in_image = p.x >= 0 && p.y >= 0 && p.x < mask.cols && p.y < mask.rows;
+    if (!in_image || !mask.ptr<uint8_t>(p.y)[p.x]) {
+      const int keep = in_image ? k - 1 - static_cast<int>(std::lround(tip_radius / 2)) : k - 1;
+      // A stub cut by the border reaches no further from the bodies than the border lets it:
+      // there its length counts.
+      const float past = in_image ? reach : std::max(reach, static_cast<float>(stub));
+      if (crossed && past >= min_stub && keep > k - 1 - stub) return StubRay{keep, stub};
+      return std::nullopt;
+    }
+    bool covered = false;
+    const BodyPixel* nearest = nullptr;
+    float nearest_d2 = 0;
+    for (const BodyPixel& o : others) {
+      const float dx = static_cast<float>(p.x - o.at.x), dy = static_cast<float>(p.y - o.at.y);
+      const float d2 = dx * dx + dy * dy;
+      if (d2 > (o.radius + 1) * (o.radius + 1)) continue;
+      covered = true;
+      if (!nearest || d2 < nearest_d2) nearest = &o, nearest_d2 = d2;
+    }
+    if (!covered && inside && crossed) {  // how far past the bodies this stub pixel lies
+      float clearance = std::numeric_limits<float>::infinity();
+      for (const BodyPixel& o : others) {
+        const float dx = static_cast<float>(p.x - o.at.x), dy = static_cast<float>(p.y - o.at.y);
+        clearance = std::min(clearance, std::sqrt(dx * dx + dy * dy) - o.radius);
+      }
+      reach = std::max(reach, clearance);
+    }
+    if (covered) {
+      if (std::abs(strand.x * nearest->direction.y - strand.y * nearest->direction.x) >= min_sine) crossed = true;
+      // Into a third body: the DLO ends under it, after a stub between the two.
+      if (stub > 0) return reach >= min_stub ? std::optional<StubRay>(StubRay{k - 1, stub}) : std::nullopt;
+      inside = true;
+    } else if (inside && crossed) {
+      ++stub;
+    }
+  }
+  return std::nullopt;  // the mask runs on: not a short stub
+}
+
 }  // namespace
+
+// Below this angle a ray from an end runs along the strand it meets rather than across.
+constexpr double kMinStubCrossingAngle = 10 * M_PI / 180;
+
+int reach_past_crossings(std::vector<Dlo>& dlos, const cv::Mat& mask, float r) {
+  const int back = std::max(2, static_cast<int>(std::lround(3 * r)));
+  const int max_steps = static_cast<int>(std::ceil(6 * r)) + 2;
+  // A strand's body is its typical width: radii measured inside a crossing are the
+  // crossing's, wider.
+  std::vector<float> body(dlos.size(), 0);
+  for (size_t e = 0; e < dlos.size(); ++e)
+    if (!dlos[e].radius.empty()) body[e] = median(dlos[e].radius);
+  int extended = 0;
+  for (size_t d = 0; d < dlos.size(); ++d) {
+    for (int side = 0; side < 2; ++side) {
+      Dlo& dlo = dlos[d];
+      const int n = static_cast<int>(dlo.centerline.size());
+      if (dlo.closed || n <= back) continue;
+      const int last = side == 0 ? 0 : n - 1, before = side == 0 ? back : n - 1 - back;
+      const cv::Point2f end(dlo.centerline[last]);
+      const cv::Point2f chord = end - cv::Point2f(dlo.centerline[before]);
+      const float len = std::hypot(chord.x, chord.y);
+      if (len < 1) continue;
+      const cv::Point2f dir = chord * (1.0f / len);
+      // Centerline pixels within reach of the ray, but this DLO's own last 2 * back pixels.
+      const float reach = static_cast<float>(max_steps) + 4 * r;
+      std::vector<BodyPixel> others;
+      for (size_t e = 0; e < dlos.size(); ++e) {
+        const std::vector<cv::Point>& line = dlos[e].centerline;
+        const size_t m = line.size();
+        for (size_t k = 0; k < m; ++k) {
+          if (e == d && (side == 0 ? k < static_cast<size_t>(2 * back) : k + 2 * back >= m)) continue;
+          if (std::abs(line[k].x - end.x) > reach || std::abs(line[k].y - end.y) > reach) continue;
+          const size_t lo = k >= 3 ? k - 3 : 0, hi = std::min(m - 1, k + 3);
+          others.push_back({line[k], body[e], unit(cv::Point2f(line[hi] - line[lo]))});
+        }
+      }
+      const float tip_radius = dlo.radius[last];
+      // The stub may bend away from the chord: rays fan out up to 30 degrees either side,
+      // and the one reaching furthest into a stub wins (the straightest of equals).
+      std::optional<StubRay> stub;
+      cv::Point2f stub_dir = dir;
+      for (int turn : {0, 1, -1, 2, -2, 3, -3, 4, -4}) {
+        const float a = static_cast<float>(turn * 7.5 * M_PI / 180);
+        const cv::Point2f ray(dir.x * std::cos(a) - dir.y * std::sin(a), dir.x * std::sin(a) + dir.y * std::cos(a));
+        const auto s = stub_past(end, ray, dir, max_steps, std::max(3.0f, tip_radius / 2), tip_radius,
+                                 kMinStubCrossingAngle, mask, others);
+        if (s && (!stub || s->stub > stub->stub)) stub = s, stub_dir = ray;
+      }
+      if (!stub) continue;
+      std::vector<cv::Point> run;
+      for (int k = 1; k <= stub->steps; ++k) run.push_back(cv::Point(end + stub_dir * static_cast<float>(k)));
+      if (side == 0) {
+        std::reverse(dlo.centerline.begin(), dlo.centerline.end());
+        std::reverse(dlo.radius.begin(), dlo.radius.end());
+      }
+      for (const cv::Point& p : run) append_connected(dlo.centerline, p);
+      dlo.radius.resize(dlo.centerline.size(), tip_radius);
+      if (side == 0) {
+        std::reverse(dlo.centerline.begin(), dlo.centerline.end());
+        std::reverse(dlo.radius.begin(), dlo.radius.end());
+      }
+      ++extended;
+    }
+  }
+  return extended;
+}
 
 void extend_ends(std::vector<Dlo>& dlos, const cv::Mat& mask, float r) {
   for (Dlo& dlo : dlos) {

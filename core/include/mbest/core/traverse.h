@@ -28,4 +28,17 @@ Traversal traverse(const SkeletonGraph& graph, const std::vector<Passage>& passa
 // radius short of the mask's edge, between where a flat and a round tip end.
 void extend_ends(std::vector<Dlo>& dlos, const cv::Mat& mask, float r);
 
+// A DLO that ends where it meets another strand most often runs on under it and ends just
+// past it, in a stub too short to keep a skeleton branch of its own (pruned as a split end,
+// or folded into the crossing): the stub's pixels went to the strand it passes under.
+// After extend_ends, casts rays from each open end, along the chord of its last 3 r px and
+// fanned out up to 30 degrees either side (stubs bend), through `mask`. A ray makes a stub
+// when the end runs into another DLO's body (within its median radius + 1 px of its
+// centerline) at 10 degrees or more to that DLO's axis, then on through mask no DLO covers
+// reaching at least max(3, half the end's radius) px from every body, before the mask ends,
+// the image ends (where the stub's length along the ray counts) or a third body begins; all
+// within 6 r + 2 px. The end is extended straight along the ray reaching furthest into its
+// stub, up to half a radius short of the stub's tip. Returns the number of ends extended.
+int reach_past_crossings(std::vector<Dlo>& dlos, const cv::Mat& mask, float r);
+
 }  // namespace mbest
