@@ -212,24 +212,17 @@ std::optional<StubRay> stub_past(cv::Point2f end, cv::Point2f dir, cv::Point2f s
       if (crossed && past >= min_stub && keep > k - 1 - stub) return StubRay{keep, stub};
       return std::nullopt;
     }
-    bool covered = false;
-    const BodyPixel* nearest = nullptr;
+    const BodyPixel* nearest = nullptr;  // the nearest axis pixel whose body covers p
     float nearest_d2 = 0;
+    float clearance = std::numeric_limits<float>::infinity();  // how far past the bodies p lies
     for (const BodyPixel& o : others) {
       const float dx = static_cast<float>(p.x - o.at.x), dy = static_cast<float>(p.y - o.at.y);
       const float d2 = dx * dx + dy * dy;
-      if (d2 > (o.radius + 1) * (o.radius + 1)) continue;
-      covered = true;
-      if (!nearest || d2 < nearest_d2) nearest = &o, nearest_d2 = d2;
+      clearance = std::min(clearance, std::sqrt(d2) - o.radius);
+      if (d2 <= (o.radius + 1) * (o.radius + 1) && (!nearest || d2 < nearest_d2)) nearest = &o, nearest_d2 = d2;
     }
-    if (!covered && inside && crossed) {  // how far past the bodies this stub pixel lies
-      float clearance = std::numeric_limits<float>::infinity();
-      for (const BodyPixel& o : others) {
-        const float dx = static_cast<float>(p.x - o.at.x), dy = static_cast<float>(p.y - o.at.y);
-        clearance = std::min(clearance, std::sqrt(dx * dx + dy * dy) - o.radius);
-      }
-      reach = std::max(reach, clearance);
-    }
+    const bool covered = nearest != nullptr;
+    if (!covered && inside && crossed) reach = std::max(reach, clearance);
     if (covered) {
       if (std::abs(strand.x * nearest->direction.y - strand.y * nearest->direction.x) >= min_sine) crossed = true;
       // Into a third body: the DLO ends under it, after a stub between the two.
@@ -250,62 +243,57 @@ constexpr double kMinStubCrossingAngle = 10 * M_PI / 180;
 int reach_past_crossings(std::vector<Dlo>& dlos, const cv::Mat& mask, float r) {
   const int back = std::max(2, static_cast<int>(std::lround(3 * r)));
   const int max_steps = static_cast<int>(std::ceil(6 * r)) + 2;
+  const float window = static_cast<float>(max_steps) + 4 * r;  // around the end, for `others`
   // A strand's body is its typical width: radii measured inside a crossing are the
   // crossing's, wider.
   std::vector<float> body(dlos.size(), 0);
   for (size_t e = 0; e < dlos.size(); ++e)
     if (!dlos[e].radius.empty()) body[e] = median(dlos[e].radius);
+  // Extends the last end of DLO `d`, if it stops short of a stub.
+  const auto reach_tail = [&](size_t d) {
+    Dlo& dlo = dlos[d];
+    const int n = static_cast<int>(dlo.centerline.size());
+    const cv::Point2f end(dlo.centerline.back());
+    const cv::Point2f chord = end - cv::Point2f(dlo.centerline[n - 1 - back]);
+    const float len = std::hypot(chord.x, chord.y);
+    if (len < 1) return false;
+    const cv::Point2f dir = chord * (1.0f / len);
+    // Centerline pixels near the end, but this DLO's own last 2 * back pixels.
+    std::vector<BodyPixel> others;
+    for (size_t e = 0; e < dlos.size(); ++e) {
+      const std::vector<cv::Point>& line = dlos[e].centerline;
+      const size_t m = e == d ? line.size() - std::min(line.size(), static_cast<size_t>(2 * back)) : line.size();
+      for (size_t k = 0; k < m; ++k) {
+        if (std::abs(line[k].x - end.x) > window || std::abs(line[k].y - end.y) > window) continue;
+        const size_t lo = k >= 3 ? k - 3 : 0, hi = std::min(line.size() - 1, k + 3);
+        others.push_back({line[k], body[e], unit(cv::Point2f(line[hi] - line[lo]))});
+      }
+    }
+    const float tip_radius = dlo.radius.back();
+    // The stub may bend away from the chord: rays fan out up to 30 degrees either side,
+    // and the one reaching furthest into a stub wins (the straightest of equals).
+    std::optional<StubRay> stub;
+    cv::Point2f stub_dir = dir;
+    for (int turn : {0, 1, -1, 2, -2, 3, -3, 4, -4}) {
+      const float a = static_cast<float>(turn * 7.5 * M_PI / 180);
+      const cv::Point2f ray(dir.x * std::cos(a) - dir.y * std::sin(a), dir.x * std::sin(a) + dir.y * std::cos(a));
+      const auto s = stub_past(end, ray, dir, max_steps, std::max(3.0f, tip_radius / 2), tip_radius,
+                               kMinStubCrossingAngle, mask, others);
+      if (s && (!stub || s->stub > stub->stub)) stub = s, stub_dir = ray;
+    }
+    if (!stub) return false;
+    for (int k = 1; k <= stub->steps; ++k) append_connected(dlo.centerline, cv::Point(end + stub_dir * static_cast<float>(k)));
+    dlo.radius.resize(dlo.centerline.size(), tip_radius);
+    return true;
+  };
   int extended = 0;
   for (size_t d = 0; d < dlos.size(); ++d) {
-    for (int side = 0; side < 2; ++side) {
-      Dlo& dlo = dlos[d];
-      const int n = static_cast<int>(dlo.centerline.size());
-      if (dlo.closed || n <= back) continue;
-      const int last = side == 0 ? 0 : n - 1, before = side == 0 ? back : n - 1 - back;
-      const cv::Point2f end(dlo.centerline[last]);
-      const cv::Point2f chord = end - cv::Point2f(dlo.centerline[before]);
-      const float len = std::hypot(chord.x, chord.y);
-      if (len < 1) continue;
-      const cv::Point2f dir = chord * (1.0f / len);
-      // Centerline pixels within reach of the ray, but this DLO's own last 2 * back pixels.
-      const float reach = static_cast<float>(max_steps) + 4 * r;
-      std::vector<BodyPixel> others;
-      for (size_t e = 0; e < dlos.size(); ++e) {
-        const std::vector<cv::Point>& line = dlos[e].centerline;
-        const size_t m = line.size();
-        for (size_t k = 0; k < m; ++k) {
-          if (e == d && (side == 0 ? k < static_cast<size_t>(2 * back) : k + 2 * back >= m)) continue;
-          if (std::abs(line[k].x - end.x) > reach || std::abs(line[k].y - end.y) > reach) continue;
-          const size_t lo = k >= 3 ? k - 3 : 0, hi = std::min(m - 1, k + 3);
-          others.push_back({line[k], body[e], unit(cv::Point2f(line[hi] - line[lo]))});
-        }
-      }
-      const float tip_radius = dlo.radius[last];
-      // The stub may bend away from the chord: rays fan out up to 30 degrees either side,
-      // and the one reaching furthest into a stub wins (the straightest of equals).
-      std::optional<StubRay> stub;
-      cv::Point2f stub_dir = dir;
-      for (int turn : {0, 1, -1, 2, -2, 3, -3, 4, -4}) {
-        const float a = static_cast<float>(turn * 7.5 * M_PI / 180);
-        const cv::Point2f ray(dir.x * std::cos(a) - dir.y * std::sin(a), dir.x * std::sin(a) + dir.y * std::cos(a));
-        const auto s = stub_past(end, ray, dir, max_steps, std::max(3.0f, tip_radius / 2), tip_radius,
-                                 kMinStubCrossingAngle, mask, others);
-        if (s && (!stub || s->stub > stub->stub)) stub = s, stub_dir = ray;
-      }
-      if (!stub) continue;
-      std::vector<cv::Point> run;
-      for (int k = 1; k <= stub->steps; ++k) run.push_back(cv::Point(end + stub_dir * static_cast<float>(k)));
-      if (side == 0) {
-        std::reverse(dlo.centerline.begin(), dlo.centerline.end());
-        std::reverse(dlo.radius.begin(), dlo.radius.end());
-      }
-      for (const cv::Point& p : run) append_connected(dlo.centerline, p);
-      dlo.radius.resize(dlo.centerline.size(), tip_radius);
-      if (side == 0) {
-        std::reverse(dlo.centerline.begin(), dlo.centerline.end());
-        std::reverse(dlo.radius.begin(), dlo.radius.end());
-      }
-      ++extended;
+    Dlo& dlo = dlos[d];
+    if (dlo.closed || static_cast<int>(dlo.centerline.size()) <= back) continue;
+    for (int pass = 0; pass < 2; ++pass) {  // the first end, then the last
+      std::reverse(dlo.centerline.begin(), dlo.centerline.end());
+      std::reverse(dlo.radius.begin(), dlo.radius.end());
+      extended += reach_tail(d);
     }
   }
   return extended;

@@ -94,11 +94,14 @@ TEST(Detector, XCrossingIsTwoDlosAndOneCrossing) {
   }
 }
 
-// A blue rod ends lying on a red one at `angle_deg`, its tip just past the red rod's axis.
+// A red rod and a blue one that ends on it or past it, painted in those colours (BGR).
+const cv::Scalar kRed(40, 40, 200), kBlue(200, 90, 30);
 struct EndOnRod {
   cv::Mat mask, bgr;
-  std::vector<cv::Mat> gt;  // red, blue (drawn on top)
+  std::vector<cv::Mat> gt;  // red, blue: each without the pixels the other covers
 };
+
+// The blue rod ends lying on the red one at `angle_deg`, its tip just past the red rod's axis.
 EndOnRod end_on_rod(double angle_deg) {
   EndOnRod s;
   const cv::Size size(420, 240);
@@ -108,9 +111,7 @@ EndOnRod end_on_rod(double angle_deg) {
       {cv::Point(cvRound(210 + 170 * std::cos(a)), cvRound(117 + 170 * std::sin(a))), {210, 117}}};
   s.mask = scene(size, rods, 13, &s.gt);
   s.gt[0] &= ~s.gt[1];
-  s.bgr = cv::Mat(size, CV_8UC3, cv::Scalar(0, 0, 0));
-  s.bgr.setTo(cv::Scalar(40, 40, 200), s.gt[0]);
-  s.bgr.setTo(cv::Scalar(200, 90, 30), s.gt[1]);
+  s.bgr = painted(s.gt, {kRed, kBlue});
   return s;
 }
 
@@ -147,9 +148,7 @@ EndOnRod end_past_rod(double angle_deg, double stub, int wa = 13, int wb = 13) {
   test::draw_rod(s.gt[1], {cv::Point(centre - up * 150.0), cv::Point(tip)}, wb);
   s.mask = s.gt[0] | s.gt[1];
   s.gt[1] &= ~s.gt[0];
-  s.bgr = cv::Mat(size, CV_8UC3, cv::Scalar(0, 0, 0));
-  s.bgr.setTo(cv::Scalar(40, 40, 200), s.gt[0]);
-  s.bgr.setTo(cv::Scalar(200, 90, 30), s.gt[1]);
+  s.bgr = painted(s.gt, {kRed, kBlue});
   return s;
 }
 
