@@ -170,6 +170,12 @@ void extend_tail(std::vector<cv::Point>& line, std::vector<float>& radius, const
   radius.resize(line.size(), tip_radius);
 }
 
+// Turns `dlo` end for end, so that its first end is its last: ends are extended at the back.
+void reverse(Dlo& dlo) {
+  std::reverse(dlo.centerline.begin(), dlo.centerline.end());
+  std::reverse(dlo.radius.begin(), dlo.radius.end());
+}
+
 // A ray from a DLO's end that runs across the body of another strand into a stub of mask
 // no strand covers: `steps` px of it to keep (up to half a radius short of the stub's tip,
 // or to the border), `stub` of them past the body.
@@ -235,10 +241,10 @@ std::optional<StubRay> stub_past(cv::Point2f end, cv::Point2f dir, cv::Point2f s
   return std::nullopt;  // the mask runs on: not a short stub
 }
 
-}  // namespace
-
 // Below this angle a ray from an end runs along the strand it meets rather than across.
 constexpr double kMinStubCrossingAngle = 10 * M_PI / 180;
+
+}  // namespace
 
 int reach_past_crossings(std::vector<Dlo>& dlos, const cv::Mat& mask, float r) {
   const int back = std::max(2, static_cast<int>(std::lround(3 * r)));
@@ -291,8 +297,7 @@ int reach_past_crossings(std::vector<Dlo>& dlos, const cv::Mat& mask, float r) {
     Dlo& dlo = dlos[d];
     if (dlo.closed || static_cast<int>(dlo.centerline.size()) <= back) continue;
     for (int pass = 0; pass < 2; ++pass) {  // the first end, then the last
-      std::reverse(dlo.centerline.begin(), dlo.centerline.end());
-      std::reverse(dlo.radius.begin(), dlo.radius.end());
+      reverse(dlo);
       extended += reach_tail(d);
     }
   }
@@ -303,11 +308,9 @@ void extend_ends(std::vector<Dlo>& dlos, const cv::Mat& mask, float r) {
   for (Dlo& dlo : dlos) {
     if (dlo.closed || dlo.centerline.size() < 3) continue;
     extend_tail(dlo.centerline, dlo.radius, mask, r);
-    std::reverse(dlo.centerline.begin(), dlo.centerline.end());
-    std::reverse(dlo.radius.begin(), dlo.radius.end());
+    reverse(dlo);
     extend_tail(dlo.centerline, dlo.radius, mask, r);
-    std::reverse(dlo.centerline.begin(), dlo.centerline.end());
-    std::reverse(dlo.radius.begin(), dlo.radius.end());
+    reverse(dlo);
   }
 }
 
