@@ -114,6 +114,9 @@ int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image, const Colou
 int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double fold_energy) {
   const float kStraightArm = std::cos(static_cast<float>(M_PI) / 6);
   const int k = std::max(2, static_cast<int>(reach));
+  // An arm that runs into a junction (the next crossing) sooner than 2 reach px from the
+  // turn is measured with chords as long as it allows, down to half of reach.
+  const int k_min = std::max(2, k / 2);
   int cuts = 0;
   for (size_t bi = 0, n_branches = g.branches.size(); bi < n_branches; ++bi) {
     if (!g.branches[bi].alive) continue;
@@ -123,10 +126,14 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
     // The turn at pixels [s, e] of the branch: between the chords reach px before s and
     // after e, when the arms before those chords run straight into them (a small loop or a
     // hairpin at the border turns as sharply, but all along); 2 (no turn) if they do not.
+    const auto chord_before = [&](int s) { return std::min(k, s / 2); };
+    const auto chord_after = [&](int e) { return std::min(k, (n - 1 - e) / 2); };
     const auto turn_cosine = [&](int s, int e) -> double {
-      const cv::Point2f before = unit(cv::Point2f(px[s] - px[s - k])), after = unit(cv::Point2f(px[e + k] - px[e]));
-      if (unit(cv::Point2f(px[s - k] - px[s - 2 * k])).dot(before) < kStraightArm ||
-          unit(cv::Point2f(px[e + 2 * k] - px[e + k])).dot(after) < kStraightArm)
+      const int kb = chord_before(s), ka = chord_after(e);
+      if (kb < k_min || ka < k_min) return 2;
+      const cv::Point2f before = unit(cv::Point2f(px[s] - px[s - kb])), after = unit(cv::Point2f(px[e + ka] - px[e]));
+      if (unit(cv::Point2f(px[s - kb] - px[s - 2 * kb])).dot(before) < kStraightArm ||
+          unit(cv::Point2f(px[e + 2 * ka] - px[e + ka])).dot(after) < kStraightArm)
         return 2;
       return before.dot(after);
     };
@@ -140,7 +147,7 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
     };
     int tip = -1;
     double sharpest = 2;  // cosine of the turn: -1 is a full turn back
-    for (int i = 2 * k; i + 2 * k < n; ++i) {
+    for (int i = 2 * k_min; i + 2 * k_min < n; ++i) {
       if (!near_border(i)) continue;
       const double c = turn_cosine(i, i);
       if (c < sharpest) tip = i, sharpest = c;
@@ -158,14 +165,16 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
       };
       tip = -1;
       sharpest = 2;
-      for (int i = 2 * k; i + 2 * k < n; ++i) {
+      for (int i = 2 * k_min; i + 2 * k_min < n; ++i) {
         if (!near_border(i)) continue;
         int e = i;
-        while (e + 1 + 2 * k < n && near_border(e + 1)) ++e;
-        if (e > i && e - i <= 4 * k) {
+        while (e + 1 + 2 * k_min < n && near_border(e + 1)) ++e;
+        const int kb = chord_before(i), ka = chord_after(e);
+        if (e > i && e - i <= 4 * k && kb >= k_min && ka >= k_min) {
           const double c = turn_cosine(i, e);
-          const double arm_rate = std::max(angle(px[i - k] - px[i - 2 * k], px[i] - px[i - k]),
-                                           angle(px[e + 2 * k] - px[e + k], px[e + k] - px[e])) / k;
+          const double arm_rate =
+              std::max(angle(px[i - kb] - px[i - 2 * kb], px[i] - px[i - kb]) / kb,
+                       angle(px[e + 2 * ka] - px[e + ka], px[e + ka] - px[e]) / ka);
           if (c < sharpest && std::acos(std::min(c, 1.0)) > 3 * arm_rate * (k + e - i))
             tip = i, last = e, sharpest = c;
         }

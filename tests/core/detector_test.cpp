@@ -547,6 +547,20 @@ TEST(Detector, RodsLeavingTheImageALittleApartAreTwoDlos) {
   expect_two_dlos_not_one_folded(mask, gt, never_cut);
 }
 
+TEST(Detector, RodsLeavingTheImageSideBySideJustPastACrossingAreTwoDlos) {
+  // As above, and a third rod crosses both arms 30 px below the edge: the arms run into
+  // its junctions sooner than the 2 reach px the turn is first measured over, so it is
+  // measured with the shorter chords they allow.
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask =
+      scene({240, 200}, {{{30, 150}, {120, -2}}, {{210, 150}, {120, -2}}, {{-10, 30}, {250, 30}}}, 11, &gt);
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 3u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
+  expect_labels_cover_mask(r.value(), mask);
+}
+
 TEST(Detector, BendLeavingTheImageAndComingBackStaysOneDlo) {
   // A rod bent round a circle of radius 50 px whose top runs just outside the top edge: its
   // skeleton runs along the border as two rods leaving it would, and turns as much, but

@@ -41,8 +41,10 @@ int prune_split_ends(SkeletonGraph& graph, double delta, cv::Size image,
 // taken before its first pixel and after its last, when it turns more than 3 times as much
 // as its arms, bending at their own rate (the larger turn between their two chords, per
 // `reach` px), would over `reach` px plus its length; a bend that leaves the image and comes
-// back turns at the border no faster than beside it. The pieces end at the pixels before
-// and after the cut. Returns the number of cuts.
+// back turns at the border no faster than beside it. An arm that reaches a junction (a
+// crossing just past the border) sooner than 2 `reach` px from the turn is measured with
+// chords of half its length, down to `reach` / 2. The pieces end at the pixels before and
+// after the cut. Returns the number of cuts.
 int cut_folds_at_border(SkeletonGraph& graph, double reach, cv::Size image, double fold_energy);
 
 }  // namespace mbest
