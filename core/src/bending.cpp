@@ -524,7 +524,16 @@ struct Merge {
 
 int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>& regions,
                                   TangentCache& cache, double max_link, double min_gain,
-                                  double long_link) {
+                                  double long_link, double tip_prong) {
+  // A forked tip: two exits, one a prong shorter than tip_prong to the DLO's end.
+  const auto is_tip = [&](const CrossingRegion& r) {
+    if (r.exits.size() != 2) return false;
+    for (const BranchEnd& e : r.exits) {
+      const Branch& b = g.branches[e.branch];
+      if (b.length < tip_prong && g.nodes[b.node[1 - e.side]].kind == Node::Kind::end) return true;
+    }
+    return false;
+  };
   int merged = 0;
   for (;;) {
     const std::vector<int> region_of = region_of_nodes(g, regions);
@@ -548,6 +557,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       if (b.twin >= 0 && std::max(b.length, g.branches[b.twin].length) > max_link) continue;
       const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
       if (ra < 0 || rb < 0 || ra == rb) continue;
+      if (b.length > max_link && (is_tip(regions[ra]) || is_tip(regions[rb]))) continue;
       links.push_back(i);
       links_of[ra].push_back(i);
       links_of[rb].push_back(i);

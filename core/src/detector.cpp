@@ -382,7 +382,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     pair_lone_ys(graph, regions, tangents, config.epsilon_radii * r, config.wide_radii * r,
                  config.lone_y_cost, config.merge_gain);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
-                                  config.merge_gain, config.wide_radii * r);
+                                  config.merge_gain, config.wide_radii * r, 2 * r);
     return build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy);
   });
   Traversal traversal = stage("traverse", [&] {

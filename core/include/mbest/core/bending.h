@@ -197,10 +197,14 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 // (two links, each as above) become one if joined they gain three times `min_gain` (plus
 // twice `min_gain` per long link): a thin DLO hidden under a wide one from one region to
 // the next but one, across a third DLO's crossing, where neither end region gains enough
-// joined to the middle one alone. Returns the merges made (two for three regions).
+// joined to the middle one alone. A DLO's forked tip (one prong pruned, the other, shorter
+// than `tip_prong`, left as an exit of a two-exit region) is no crossing: it is merged
+// through no link longer than `max_link` (the prong's shaded colour pairs cheaply with any
+// other tip's, however far; a tip next to a crossing may still be part of it). Returns the
+// merges made (two for three regions).
 int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
                                   TangentCache& tangents, double max_link, double min_gain,
-                                  double long_link = 0);
+                                  double long_link = 0, double tip_prong = 0);
 
 // The bending stage: for every crossing region, the tangents of its exits (from the graph
 // `tangents` was made for) and the pairing of least total cost; one Passage per pair. A
