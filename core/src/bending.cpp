@@ -2,6 +2,7 @@
 
 #include "mbest/core/geometry.h"
 #include "mbest/core/median.h"
+#include "mbest/core/prune.h"
 
 #include <algorithm>
 #include <array>
@@ -527,12 +528,9 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
                                   double long_link, double tip_prong) {
   // A forked tip: two exits, one a prong shorter than tip_prong to the DLO's end.
   const auto is_tip = [&](const CrossingRegion& r) {
-    if (r.exits.size() != 2) return false;
-    for (const BranchEnd& e : r.exits) {
-      const Branch& b = g.branches[e.branch];
-      if (b.length < tip_prong && g.nodes[b.node[1 - e.side]].kind == Node::Kind::end) return true;
-    }
-    return false;
+    return r.exits.size() == 2 && std::any_of(r.exits.begin(), r.exits.end(), [&](const BranchEnd& e) {
+             return is_spur(g, e.branch, tip_prong);
+           });
   };
   int merged = 0;
   for (;;) {

@@ -364,8 +364,9 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return g;
   });
   const ColourSource colour{config.colour_weight > 0 ? bgr : cv::Mat(), r};
+  const double spur_length = 2 * r;  // the paper's delta: split ends, and forked tips' prongs
   stage("prune", [&] {
-    return prune_split_ends(graph, 2 * r, mask.size(), colour) +
+    return prune_split_ends(graph, spur_length, mask.size(), colour) +
            cut_folds_at_border(graph, config.fit_radii * r, mask.size(), config.border_fold_energy);
   });
   stage("strands", [&] { return split_side_by_side(graph, mask, config.side_by_side_radii * r); });
@@ -382,7 +383,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     pair_lone_ys(graph, regions, tangents, config.epsilon_radii * r, config.wide_radii * r,
                  config.lone_y_cost, config.merge_gain);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
-                                  config.merge_gain, config.wide_radii * r, 2 * r);
+                                  config.merge_gain, config.wide_radii * r, spur_length);
     return build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy);
   });
   Traversal traversal = stage("traverse", [&] {

@@ -36,13 +36,6 @@ bool is_stub_past_crossing(const SkeletonGraph& g, int i, int end_side, double r
   return false;
 }
 
-// Is branch `i` a spur: shorter than `delta`, from a junction to an end?
-bool is_spur(const SkeletonGraph& g, int i, double delta) {
-  const Branch& b = g.branches[i];
-  if (!b.alive || b.length >= delta) return false;
-  return (g.nodes[b.node[0]].kind == Node::Kind::end) != (g.nodes[b.node[1]].kind == Node::Kind::end);
-}
-
 // Is the short branch `i` where two DLOs meet rather than a split end? A split end forks
 // off one DLO, so every branch at its junction has that DLO's colour. Where two of them
 // differ (colour_penalty > 0) the short branch is a real end: of a DLO lying on another
@@ -85,6 +78,12 @@ bool joins_two_colours(const SkeletonGraph& g, int i, int end_side, double delta
 }
 
 }  // namespace
+
+bool is_spur(const SkeletonGraph& g, int i, double delta) {
+  const Branch& b = g.branches[i];
+  if (!b.alive || b.length >= delta) return false;
+  return (g.nodes[b.node[0]].kind == Node::Kind::end) != (g.nodes[b.node[1]].kind == Node::Kind::end);
+}
 
 int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image, const ColourSource& colour) {
   std::vector<int> spurs;

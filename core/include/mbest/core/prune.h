@@ -14,6 +14,10 @@ struct ColourSource {
   double radius = 1;
 };
 
+// Is branch `branch` of `graph` a spur: alive, shorter than `delta`, from a junction to an
+// end? Split ends are such spurs; of two at a DLO's forked tip, one stays.
+bool is_spur(const SkeletonGraph& graph, int branch, double delta);
+
 // Removes split ends from `graph`, shortest first; a junction keeps at least two branches
 // (of two spurs at a real end, the longer one stays as the DLO's end). Left alone: branches
 // joining two ends (short isolated pieces); branches whose end is as close to the border
