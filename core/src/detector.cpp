@@ -224,20 +224,34 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
 }
 
 // One colour zone per crossing region (refine_labels_by_colour skips those fewer than two
-// DLOs run through): discs over its inner branches and junctions (radius: the mask's half
-// width there) and over the paths drawn through it, and each DLO's colour at the exits it
-// takes.
+// DLOs meet in): discs over its inner branches and junctions (radius: the mask's half width
+// there) and over the paths drawn through it, and each DLO's colour at the exits it takes
+// or ends at. A DLO ending at a crossing (a T) most often ends on top of the strand there
+// or just past it: where its colour shows over the other's, those pixels are its own.
 std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
-                                     const std::vector<Passage>& passages, const Traversal& tr) {
+                                     const std::vector<Passage>& passages, const Traversal& tr,
+                                     TangentCache& tangents) {
   std::vector<ColourZone> zones(regions.size());
+  std::vector<bool> paired(2 * g.branches.size(), false);  // per branch end
   for (size_t i = 0; i < passages.size(); ++i) {
     const Passage& p = passages[i];
+    for (const BranchEnd& e : {p.from, p.to}) paired[2 * e.branch + e.side] = true;
     const int d = tr.passage_dlo[i];
     if (d < 0) continue;
     ColourZone& z = zones[p.region];
     for (const BranchTangent* t : {&p.from_tangent, &p.to_tangent})
       if (t->has_colour) z.colours.push_back({d, t->colour});
     for (size_t k = 0; k < p.path.size(); k += 2) z.discs.push_back({p.path[k], p.radius[k]});
+  }
+  for (size_t r = 0; r < regions.size(); ++r) {
+    ColourZone& z = zones[r];
+    if (z.colours.empty()) continue;
+    for (const BranchEnd& e : regions[r].exits) {
+      const int d = tr.branch_dlo[e.branch];
+      if (paired[2 * e.branch + e.side] || d < 0) continue;
+      const BranchTangent t = tangents.of({e})[0];
+      if (t.has_colour) z.colours.push_back({d, t.colour});
+    }
   }
   for (size_t r = 0; r < regions.size(); ++r) {
     ColourZone& z = zones[r];
@@ -401,7 +415,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   det.labels = stage("instance_mask", [&] {
     cv::Mat labels = instance_labels(mask, det.dlos, tops);
     if (!bgr.empty() && config.colour_weight > 0 && config.colour_label_margin > 0)
-      refine_labels_by_colour(labels, mask, bgr, colour_zones(graph, regions, passages, traversal),
+      refine_labels_by_colour(labels, mask, bgr, colour_zones(graph, regions, passages, traversal, tangents),
                               config.colour_label_margin, 3 * config.colour_label_margin);
     settle_tops_by_labels(det.crossings, labels, r);
     return labels;

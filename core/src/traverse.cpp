@@ -45,10 +45,11 @@ struct Builder {
   }
 
   // Walks from `start` (entering its branch there) until a true end or back to the start.
-  void walk(BranchEnd start, Dlo& dlo, std::vector<int>& dlo_passages) {
+  void walk(BranchEnd start, Dlo& dlo, std::vector<int>& dlo_passages, std::vector<int>& branches) {
     BranchEnd cur = start;
     for (;;) {
       visited[cur.branch] = true;
+      branches.push_back(cur.branch);
       const Branch& b = g.branches[cur.branch];
       const int n = static_cast<int>(b.pixels.size());
       const BranchEnd exit{cur.branch, 1 - cur.side};
@@ -83,8 +84,9 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
   Builder builder(g, passages);
   Traversal t;
   t.passage_dlo.assign(passages.size(), -1);
+  t.branch_dlo.assign(g.branches.size(), -1);
 
-  auto keep = [&](Dlo&& dlo, const std::vector<int>& dps) {
+  auto keep = [&](Dlo&& dlo, const std::vector<int>& dps, const std::vector<int>& branches) {
     if (dlo.closed && dlo.centerline.size() > 2) {
       // The walk ends where it began: close the gap to the first pixel, without repeating it.
       if (dlo.centerline.back() != dlo.centerline.front())
@@ -95,6 +97,7 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
     if (chain_length(dlo.centerline) < min_length) return;
     const int id = static_cast<int>(t.dlos.size());
     for (int p : dps) t.passage_dlo[p] = id;
+    for (int b : branches) t.branch_dlo[b] = id;
     t.dlo_passages.push_back(dps);
     t.dlos.push_back(std::move(dlo));
   };
@@ -105,19 +108,19 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
       const Branch& b = g.branches[i];
       if (!b.alive || builder.visited[i] || builder.passage_of({i, s}) >= 0) continue;
       Dlo dlo;
-      std::vector<int> dps;
-      builder.walk({i, s}, dlo, dps);
-      keep(std::move(dlo), dps);
+      std::vector<int> dps, branches;
+      builder.walk({i, s}, dlo, dps, branches);
+      keep(std::move(dlo), dps, branches);
     }
   }
   // Closed DLOs through crossings: every branch end is paired.
   for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
     if (!g.branches[i].alive || builder.visited[i]) continue;
     Dlo dlo;
-    std::vector<int> dps;
-    builder.walk({i, 0}, dlo, dps);
+    std::vector<int> dps, branches;
+    builder.walk({i, 0}, dlo, dps, branches);
     dlo.closed = true;
-    keep(std::move(dlo), dps);
+    keep(std::move(dlo), dps, branches);
   }
   // Rings: closed chains that never met a junction.
   for (size_t k = 0; k < g.rings.size(); ++k) {
@@ -125,7 +128,7 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
     dlo.centerline = g.rings[k];
     dlo.radius = g.ring_radius[k];
     dlo.closed = true;
-    keep(std::move(dlo), {});
+    keep(std::move(dlo), {}, {});
   }
   return t;
 }

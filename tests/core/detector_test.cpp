@@ -124,14 +124,52 @@ TEST(Detector, DloEndingOnAnotherLeavesTheOtherWhole) {
     auto r = detect(s.mask, s.bgr);
     ASSERT_TRUE(r.ok());
     EXPECT_EQ(r.value().dlos.size(), 2u) << "angle " << angle;
-    // Where the blue end lies on the red rod the mask cannot say how far it reaches: that
-    // overlap goes to the red one.
+    // Where the blue end lies on the red rod the mask cannot say how far it reaches; the
+    // colour gives that overlap to the blue one (RodEndingOnAnotherIsOnTopWhereItsColourShows).
     EXPECT_GT(test::strict_dice(s.gt, r.value().labels), 0.93) << "angle " << angle;
     // The red rod keeps one label on both sides of where the blue one lies on it.
     const cv::Mat& labels = r.value().labels;
     EXPECT_EQ(labels.at<uint16_t>(120, 40), labels.at<uint16_t>(120, 380)) << "angle " << angle;
     EXPECT_NE(labels.at<uint16_t>(120, 40), 0);
   }
+}
+
+// The blue rod ends on the red one (end_on_rod), drawn over it or under it. Where it lies
+// over it, the overlap shows blue and is the blue DLO's; where under, the red one's. The
+// crossing's top as a user reads it from the labels is the label there.
+TEST(Detector, RodEndingOnAnotherIsOnTopWhereItsColourShows) {
+  for (double angle : {35.0, 50.0, 70.0, 90.0})
+    for (bool blue_on_top : {true, false}) {
+      const std::string scene = std::to_string(static_cast<int>(angle)) + " degrees, blue " +
+                                (blue_on_top ? "over" : "under") + " red";
+      EndOnRod s = end_on_rod(angle);
+      if (!blue_on_top) {  // repaint: red over the blue end
+        s.gt[0] = s.mask.clone();
+        s.gt[1].setTo(0);
+        const double a = angle * M_PI / 180;
+        test::draw_rod(s.gt[1], {{cvRound(210 + 170 * std::cos(a)), cvRound(117 + 170 * std::sin(a))}, {210, 117}}, 13);
+        s.gt[1] &= s.mask;
+        cv::Mat red_rod = cv::Mat::zeros(s.mask.size(), CV_8UC1);
+        test::draw_rod(red_rod, {{20, 120}, {400, 120}}, 13);
+        s.gt[1] &= ~red_rod;
+        s.gt[0] = red_rod;
+        s.bgr = painted(s.gt, {kRed, kBlue});
+      }
+      auto r = detect(s.mask, s.bgr);
+      ASSERT_TRUE(r.ok());
+      ASSERT_EQ(r.value().dlos.size(), 2u) << scene;
+      const cv::Mat& labels = r.value().labels;
+      const uint16_t red = labels.at<uint16_t>(120, 40);
+      const uint16_t blue = labels.at<uint16_t>(cvRound(117 + 100 * std::sin(angle * M_PI / 180)),
+                                                cvRound(210 + 100 * std::cos(angle * M_PI / 180)));
+      ASSERT_NE(red, blue) << scene;
+      EXPECT_EQ(labels.at<uint16_t>(120, 380), red) << scene;
+      // Just short of the blue tip, on the red rod's axis.
+      const double a = angle * M_PI / 180;
+      const cv::Point on_red(cvRound(210 + 3 * std::cos(a)), 120);
+      EXPECT_EQ(labels.at<uint16_t>(on_red), blue_on_top ? blue : red) << scene;
+      EXPECT_GT(test::strict_dice(s.gt, labels), 0.97) << scene;
+    }
 }
 
 // A blue rod that passes under a red one and ends `stub` px past its edge (to the blue

@@ -15,6 +15,7 @@ struct Traversal {
   // For each passage: the DLO that runs through it (-1 if that DLO was dropped as too short).
   std::vector<int> passage_dlo;
   std::vector<std::vector<int>> dlo_passages;  // per DLO, its passages in traversal order
+  std::vector<int> branch_dlo;  // per skeleton branch: the DLO that runs along it, or -1
 };
 
 // Builds the DLOs. DLOs whose centerline is shorter than `min_length` px are dropped.
