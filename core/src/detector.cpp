@@ -10,9 +10,11 @@
 
 #include "mbest/core/bending.h"
 #include "mbest/core/crossing_order.h"
+#include "mbest/core/geometry.h"
 #include "mbest/core/instance_mask.h"
 #include "mbest/core/junctions.h"
 #include "mbest/core/keypoints.h"
+#include "mbest/core/median.h"
 #include "mbest/core/prune.h"
 #include "mbest/core/skeleton.h"
 #include "mbest/core/strands.h"
@@ -180,8 +182,108 @@ std::vector<CrossingPoint> crossings_between(const Passage& a, const Passage& b,
   return out;
 }
 
-// Fills Detection::crossings and Dlo::crossings, and lists the strands to draw on top. A
-// crossing is two strands whose paths through a crossing region meet and cross over
+// A DLO that ends at a crossing region (a T) and whose end runs on over or under a strand
+// through it, its tip past that strand's path: a crossing of the two, as the truth of a
+// rod ending across another has it.
+struct EndCrossing {
+  int crossing = -1;  // index into Detection::crossings
+  int dlo = -1;       // the DLO that ends there
+  bool at_front = false;  // at its centerline's first pixel (else its last)
+  int passage = -1;   // the strand it crosses
+};
+
+// Adds to det.crossings each crossing of an open DLO's end with a strand through the region
+// where that DLO ends (at an exit no passage takes): where its last 6 r px of centerline
+// meet the strand's path and its tip lies past it. The centerline's tip says little there:
+// extend_ends runs it on through the other strand to the mask's edge. The labels say more:
+// the DLO's own pixels (its colour, where it lies on top; its stub, where it ends just
+// past the other) reach beyond the crossing by its radius and more when its tip is past
+// the other's axis. Their order is left to settle_tops_by_labels.
+std::vector<EndCrossing> crossings_at_ends(Detection& det, const SkeletonGraph& g,
+                                           const std::vector<Passage>& passages,
+                                           const std::vector<CrossingRegion>& regions,
+                                           const Traversal& tr, const cv::Mat& labels, float r) {
+  std::vector<bool> paired(2 * g.branches.size(), false);  // per branch end
+  std::vector<std::vector<int>> in_region(regions.size());
+  for (size_t i = 0; i < passages.size(); ++i) {
+    for (const BranchEnd& e : {passages[i].from, passages[i].to}) paired[2 * e.branch + e.side] = true;
+    if (tr.passage_dlo[i] >= 0) in_region[passages[i].region].push_back(static_cast<int>(i));
+  }
+  const size_t reach = static_cast<size_t>(std::max(4.0f, std::ceil(6 * r)));
+  const cv::Rect image(0, 0, labels.cols, labels.rows);
+  std::vector<EndCrossing> out;
+  for (size_t k = 0; k < regions.size(); ++k) {
+    for (const BranchEnd& e : regions[k].exits) {
+      const int d = tr.branch_dlo[e.branch];
+      if (paired[2 * e.branch + e.side] || d < 0 || in_region[k].empty()) continue;
+      const Dlo& dlo = det.dlos[d];
+      const Branch& b = g.branches[e.branch];
+      if (dlo.closed || dlo.centerline.size() < 3 || b.pixels.empty()) continue;
+      // The end of the DLO nearer the exit's pixel next to the region.
+      const cv::Point2f at(e.side == 0 ? b.pixels.front() : b.pixels.back());
+      const cv::Point2f d_front = cv::Point2f(dlo.centerline.front()) - at;
+      const cv::Point2f d_back = cv::Point2f(dlo.centerline.back()) - at;
+      const bool at_front = d_front.dot(d_front) < d_back.dot(d_back);
+      const size_t n = std::min(reach, dlo.centerline.size());
+      std::vector<cv::Point> tail(n);  // towards the tip
+      std::vector<float> tail_radius(n);
+      for (size_t i = 0; i < n; ++i) {
+        const size_t j = at_front ? n - 1 - i : dlo.centerline.size() - n + i;
+        tail[i] = dlo.centerline[j];
+        tail_radius[i] = dlo.radius[j];
+      }
+      const float own_radius = middle_value(tail_radius);
+      const cv::Point2f ahead = unit(cv::Point2f(tail.back() - tail.front()));
+      for (int p : in_region[k]) {
+        const Passage& ps = passages[p];
+        if (tr.passage_dlo[p] == d || !paths_meet(tail, ps.path)) continue;
+        if (side_of_path(ps.path, tail.front()) * side_of_path(ps.path, tail.back()) >= 0) continue;
+        const cv::Point2f x = closest_approach(tail, ps.path, regions[k].centre);
+        // How far the DLO's own pixels reach ahead of the crossing, within the mask.
+        float reached = 0;
+        for (float t = 0; t <= 8 * r; t += 0.5f) {
+          const cv::Point2f q = x + ahead * t;
+          const cv::Point c(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y)));
+          if (!image.contains(c)) break;
+          const uint16_t label = labels.at<uint16_t>(c);
+          if (label == 0) break;
+          if (label == d + 1) reached = t;
+        }
+        if (reached <= own_radius + 1) continue;
+        Crossing c;
+        c.location = x;
+        c.angle_deg = line_angle_deg(ahead, direction_near(ps.path, x));
+        c.dlos = {tr.passage_dlo[p], d};
+        out.push_back({static_cast<int>(det.crossings.size()), d, at_front, p});
+        det.crossings.push_back(std::move(c));
+      }
+    }
+  }
+  return out;
+}
+
+// Dlo::crossings: per DLO, those of its passages in traversal order (crossings_of, per
+// passage), with the crossings at its ends first and last and those of other DLOs' ends
+// after the passage they cross.
+void list_dlo_crossings(Detection& det, const Traversal& tr, const std::vector<std::vector<int>>& crossings_of,
+                        const std::vector<EndCrossing>& at_ends) {
+  for (size_t d = 0; d < det.dlos.size(); ++d) {
+    std::vector<int>& list = det.dlos[d].crossings;
+    for (const EndCrossing& x : at_ends)
+      if (x.dlo == static_cast<int>(d) && x.at_front) list.push_back(x.crossing);
+    for (int p : tr.dlo_passages[d]) {
+      list.insert(list.end(), crossings_of[p].begin(), crossings_of[p].end());
+      for (const EndCrossing& x : at_ends)
+        if (x.passage == p) list.push_back(x.crossing);
+    }
+    for (const EndCrossing& x : at_ends)
+      if (x.dlo == static_cast<int>(d) && !x.at_front) list.push_back(x.crossing);
+  }
+}
+
+// Fills Detection::crossings and, per passage, the crossings it takes part in
+// (`crossings_of`), and lists the strands to draw on top. A crossing is two strands whose
+// paths through a crossing region meet and cross over
 // (crossings_between): a region where three strands cross (a triple point) holds three, one
 // where two strands touch without crossing holds none, and one where two twist once round
 // each other holds two. So the crossings found do not depend on how nearby junctions were
@@ -190,9 +292,10 @@ std::vector<CrossingPoint> crossings_between(const Passage& a, const Passage& b,
 std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passage>& passages,
                                         const std::vector<CrossingRegion>& regions,
                                         const Traversal& tr,
-                                        const std::vector<std::vector<int>>& ordered) {
+                                        const std::vector<std::vector<int>>& ordered,
+                                        std::vector<std::vector<int>>& crossings_of) {
   std::vector<TopStrand> tops;
-  std::vector<std::vector<int>> crossings_of(passages.size());
+  crossings_of.assign(passages.size(), {});
   for (const std::vector<int>& list : ordered) {
     std::vector<int> strands;
     for (int p : list)
@@ -217,9 +320,6 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
       tops.push_back({tr.passage_dlo[strands[i]], p.path, p.radius});
     }
   }
-  for (size_t d = 0; d < det.dlos.size(); ++d)
-    for (int p : tr.dlo_passages[d])
-      det.dlos[d].crossings.insert(det.dlos[d].crossings.end(), crossings_of[p].begin(), crossings_of[p].end());
   return tops;
 }
 
@@ -411,12 +511,15 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return order_crossings(passages, static_cast<int>(regions.size()), bgr);
   });
   det.dlos = std::move(traversal.dlos);
-  auto tops = record_crossings(det, passages, regions, traversal, ordered);
+  std::vector<std::vector<int>> crossings_of;  // per passage
+  auto tops = record_crossings(det, passages, regions, traversal, ordered, crossings_of);
   det.labels = stage("instance_mask", [&] {
     cv::Mat labels = instance_labels(mask, det.dlos, tops);
     if (!bgr.empty() && config.colour_weight > 0 && config.colour_label_margin > 0)
       refine_labels_by_colour(labels, mask, bgr, colour_zones(graph, regions, passages, traversal, tangents),
                               config.colour_label_margin, 3 * config.colour_label_margin);
+    list_dlo_crossings(det, traversal, crossings_of,
+                       crossings_at_ends(det, graph, passages, regions, traversal, labels, r));
     settle_tops_by_labels(det.crossings, labels, r);
     return labels;
   });

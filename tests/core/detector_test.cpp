@@ -217,6 +217,68 @@ TEST(Detector, RodEndingJustPastAnotherKeepsItsStub) {
         }
 }
 
+// A blue rod lying over a red one (13 px each, red along y = 120) and ending with the tip
+// of its centerline `past` px beyond the red rod's axis (negative: short of it), the blue
+// one coming in from below at `angle_deg`.
+EndOnRod end_over_rod(double angle_deg, double past) {
+  EndOnRod s;
+  const cv::Size size(420, 240);
+  const double a = angle_deg * M_PI / 180;
+  const cv::Point2d down(std::cos(a), std::sin(a));
+  const cv::Point2d tip = cv::Point2d(210, 120) - down * (past / std::sin(a));
+  s.gt = {cv::Mat::zeros(size, CV_8UC1), cv::Mat::zeros(size, CV_8UC1)};
+  test::draw_rod(s.gt[0], {{20, 120}, {400, 120}}, 13);
+  test::draw_rod(s.gt[1], {cv::Point(tip + down * 170.0), cv::Point(tip)}, 13);
+  s.mask = s.gt[0] | s.gt[1];
+  s.gt[0] &= ~s.gt[1];
+  s.bgr = painted(s.gt, {kRed, kBlue});
+  return s;
+}
+
+// The truth lists a crossing where a rod's centerline crosses another's: a rod ending over
+// another with its tip past the other's axis, or under it with its stub showing past it.
+// The detector's list says so, with the top the picture shows.
+TEST(Detector, RodEndingAcrossAnotherIsListedAsACrossing) {
+  const auto crossings_of_two = [](const Detection& d) {
+    int n = 0;
+    for (const Crossing& c : d.crossings) n += c.dlos.size() == 2 && c.dlos[0] != c.dlos[1];
+    return n;
+  };
+  for (double angle : {40.0, 60.0, 90.0}) {
+    for (double past : {-5.0, 5.0}) {
+      const std::string scene = "blue over red at " + std::to_string(static_cast<int>(angle)) +
+                                " degrees, tip " + std::to_string(static_cast<int>(past)) + " px past the axis";
+      const EndOnRod s = end_over_rod(angle, past);
+      auto r = detect(s.mask, s.bgr);
+      ASSERT_TRUE(r.ok());
+      const Detection& d = r.value();
+      ASSERT_EQ(d.dlos.size(), 2u) << scene;
+      if (past < 0) {
+        EXPECT_EQ(crossings_of_two(d), 0) << scene;
+        continue;
+      }
+      ASSERT_EQ(d.crossings.size(), 1u) << scene;
+      const Crossing& c = d.crossings[0];
+      const uint16_t blue = d.labels.at<uint16_t>(cvRound(120 + 80 * std::sin(angle * M_PI / 180)),
+                                                  cvRound(210 + 80 * std::cos(angle * M_PI / 180)));
+      ASSERT_NE(blue, 0) << scene;
+      EXPECT_EQ(c.dlos.at(0), blue - 1) << scene << ": the blue rod is on top";
+      EXPECT_LT(std::abs(c.location.y - 120), 4.0f) << scene;
+      EXPECT_NEAR(c.angle_deg, angle, 6.0) << scene;
+      for (const Dlo& dlo : d.dlos) EXPECT_EQ(dlo.crossings, std::vector<int>{0}) << scene;
+    }
+  }
+  // Under the red rod, with a stub showing past it (end_past_rod): red on top.
+  for (double angle : {50.0, 90.0}) {
+    const EndOnRod s = end_past_rod(angle, 12.0);
+    auto r = detect(s.mask, s.bgr);
+    ASSERT_TRUE(r.ok());
+    const Detection& d = r.value();
+    ASSERT_EQ(d.crossings.size(), 1u) << angle;
+    EXPECT_EQ(d.crossings[0].dlos.at(0), d.labels.at<uint16_t>(120, 40) - 1) << angle;
+  }
+}
+
 // Three rods of three colours crossing pairwise within a few radii of one point: the
 // skeleton may split that cluster into regions that cannot be paired right one by one.
 TEST(Detector, ThreeColouredRodsCrossingNearOnePoint) {
