@@ -137,7 +137,7 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
       return before.dot(after);
     };
     const auto near_border = [&](int i) {
-      return distance_to_border(px[i], image) <= (radius.empty() ? 1.0f : radius[i]) + 1.5f;
+      return distance_to_border(px[i], image) <= (radius.empty() ? 1.0f : radius[i]) + 2.5f;
     };
     const auto folds = [&](double cosine) {
       if (cosine > 1) return false;

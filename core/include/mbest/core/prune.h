@@ -32,8 +32,9 @@ int prune_split_ends(SkeletonGraph& graph, double delta, cv::Size image,
 
 // Two DLOs that leave the image side by side touch where they leave: the mask joins them
 // there into a V whose tip is on the border, and thinning runs one branch round the tip.
-// A branch is cut at a pixel within its radius (plus a pixel) of the border of an image of
-// size `image` where it turns back sharper than `fold_energy` and its arms run straight up
+// A branch is cut at a pixel within its radius plus two pixels of the border of an image of
+// size `image` (thinning leaves the tip a pixel nearer some borders than others) where it
+// turns back sharper than `fold_energy` and its arms run straight up
 // to that pixel. The turn is that between the chords `reach` px before and after the
 // pixel, scored as the bending energy of a turn at a point, 8 tan^2(turn / 4) (1 is about
 // 78 degrees, 4 about 140); straight arms turn less than 30 degrees between the chords
