@@ -136,9 +136,14 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
         return 2;
       return before.dot(after);
     };
-    const auto near_border = [&](int i) {
-      return distance_to_border(px[i], image) <= (radius.empty() ? 1.0f : radius[i]) + 2.5f;
+    // Within the radius (plus `slack`) of the border. Thinning leaves a V's tip a pixel
+    // further from some borders than from others: a single tip pixel gets one pixel more
+    // than a stretch along the border, which would otherwise take in the whole apex of a
+    // hairpin grazing the border.
+    const auto near_border = [&](int i, float slack) {
+      return distance_to_border(px[i], image) <= (radius.empty() ? 1.0f : radius[i]) + slack;
     };
+    constexpr float kTipSlack = 2.5f, kStretchSlack = 1.5f;
     const auto folds = [&](double cosine) {
       if (cosine > 1) return false;
       const double quarter_turn = std::acos(std::clamp(cosine, -1.0, 1.0)) / 4;
@@ -147,7 +152,7 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
     int tip = -1;
     double sharpest = 2;  // cosine of the turn: -1 is a full turn back
     for (int i = 2 * k_min; i + 2 * k_min < n; ++i) {
-      if (!near_border(i)) continue;
+      if (!near_border(i, kTipSlack)) continue;
       const double c = turn_cosine(i, i);
       if (c < sharpest) tip = i, sharpest = c;
     }
@@ -165,9 +170,9 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
       tip = -1;
       sharpest = 2;
       for (int i = 2 * k_min; i + 2 * k_min < n; ++i) {
-        if (!near_border(i)) continue;
+        if (!near_border(i, kStretchSlack)) continue;
         int e = i;
-        while (e + 1 + 2 * k_min < n && near_border(e + 1)) ++e;
+        while (e + 1 + 2 * k_min < n && near_border(e + 1, kStretchSlack)) ++e;
         const int kb = chord_before(i), ka = chord_after(e);
         if (e > i && e - i <= 4 * k && kb >= k_min && ka >= k_min) {
           const double c = turn_cosine(i, e);
