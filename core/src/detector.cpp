@@ -182,6 +182,20 @@ std::vector<CrossingPoint> crossings_between(const Passage& a, const Passage& b,
   return out;
 }
 
+// Per crossing region, the exits where a kept DLO ends (exits no passage takes: a T's
+// ending strand, a strand left alone at an odd region).
+std::vector<std::vector<BranchEnd>> ending_exits(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
+                                                 const std::vector<Passage>& passages, const Traversal& tr) {
+  std::vector<bool> paired(2 * g.branches.size(), false);  // per branch end
+  for (const Passage& p : passages)
+    for (const BranchEnd& e : {p.from, p.to}) paired[2 * e.branch + e.side] = true;
+  std::vector<std::vector<BranchEnd>> out(regions.size());
+  for (size_t k = 0; k < regions.size(); ++k)
+    for (const BranchEnd& e : regions[k].exits)
+      if (!paired[2 * e.branch + e.side] && tr.branch_dlo[e.branch] >= 0) out[k].push_back(e);
+  return out;
+}
+
 // A DLO that ends at a crossing region (a T) and whose end runs on over or under a strand
 // through it, its tip past that strand's path: a crossing of the two, as the truth of a
 // rod ending across another has it.
@@ -202,20 +216,18 @@ struct EndCrossing {
 std::vector<EndCrossing> crossings_at_ends(Detection& det, const SkeletonGraph& g,
                                            const std::vector<Passage>& passages,
                                            const std::vector<CrossingRegion>& regions,
+                                           const std::vector<std::vector<BranchEnd>>& ending,
                                            const Traversal& tr, const cv::Mat& labels, float r) {
-  std::vector<bool> paired(2 * g.branches.size(), false);  // per branch end
   std::vector<std::vector<int>> in_region(regions.size());
-  for (size_t i = 0; i < passages.size(); ++i) {
-    for (const BranchEnd& e : {passages[i].from, passages[i].to}) paired[2 * e.branch + e.side] = true;
+  for (size_t i = 0; i < passages.size(); ++i)
     if (tr.passage_dlo[i] >= 0) in_region[passages[i].region].push_back(static_cast<int>(i));
-  }
   const size_t reach = static_cast<size_t>(std::max(4.0f, std::ceil(6 * r)));
   const cv::Rect image(0, 0, labels.cols, labels.rows);
   std::vector<EndCrossing> out;
   for (size_t k = 0; k < regions.size(); ++k) {
-    for (const BranchEnd& e : regions[k].exits) {
+    if (in_region[k].empty()) continue;
+    for (const BranchEnd& e : ending[k]) {
       const int d = tr.branch_dlo[e.branch];
-      if (paired[2 * e.branch + e.side] || d < 0 || in_region[k].empty()) continue;
       const Dlo& dlo = det.dlos[d];
       const Branch& b = g.branches[e.branch];
       if (dlo.closed || dlo.centerline.size() < 3 || b.pixels.empty()) continue;
@@ -329,13 +341,12 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
 // or ends at. A DLO ending at a crossing (a T) most often ends on top of the strand there
 // or just past it: where its colour shows over the other's, those pixels are its own.
 std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
-                                     const std::vector<Passage>& passages, const Traversal& tr,
+                                     const std::vector<Passage>& passages,
+                                     const std::vector<std::vector<BranchEnd>>& ending, const Traversal& tr,
                                      TangentCache& tangents) {
   std::vector<ColourZone> zones(regions.size());
-  std::vector<bool> paired(2 * g.branches.size(), false);  // per branch end
   for (size_t i = 0; i < passages.size(); ++i) {
     const Passage& p = passages[i];
-    for (const BranchEnd& e : {p.from, p.to}) paired[2 * e.branch + e.side] = true;
     const int d = tr.passage_dlo[i];
     if (d < 0) continue;
     ColourZone& z = zones[p.region];
@@ -346,16 +357,10 @@ std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<C
   for (size_t r = 0; r < regions.size(); ++r) {
     ColourZone& z = zones[r];
     if (z.colours.empty()) continue;
-    for (const BranchEnd& e : regions[r].exits) {
-      const int d = tr.branch_dlo[e.branch];
-      if (paired[2 * e.branch + e.side] || d < 0) continue;
+    for (const BranchEnd& e : ending[r]) {
       const BranchTangent t = tangents.of({e})[0];
-      if (t.has_colour) z.colours.push_back({d, t.colour});
+      if (t.has_colour) z.colours.push_back({tr.branch_dlo[e.branch], t.colour});
     }
-  }
-  for (size_t r = 0; r < regions.size(); ++r) {
-    ColourZone& z = zones[r];
-    if (z.colours.empty()) continue;
     for (int b : regions[r].inner_branches) {
       const Branch& br = g.branches[b];
       for (size_t k = 0; k < br.pixels.size(); k += 2) z.discs.push_back({br.pixels[k], br.radius[k]});
@@ -513,13 +518,14 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   det.dlos = std::move(traversal.dlos);
   std::vector<std::vector<int>> crossings_of;  // per passage
   auto tops = record_crossings(det, passages, regions, traversal, ordered, crossings_of);
+  const std::vector<std::vector<BranchEnd>> ending = ending_exits(graph, regions, passages, traversal);
   det.labels = stage("instance_mask", [&] {
     cv::Mat labels = instance_labels(mask, det.dlos, tops);
     if (!bgr.empty() && config.colour_weight > 0 && config.colour_label_margin > 0)
-      refine_labels_by_colour(labels, mask, bgr, colour_zones(graph, regions, passages, traversal, tangents),
+      refine_labels_by_colour(labels, mask, bgr, colour_zones(graph, regions, passages, ending, traversal, tangents),
                               config.colour_label_margin, 3 * config.colour_label_margin);
     list_dlo_crossings(det, traversal, crossings_of,
-                       crossings_at_ends(det, graph, passages, regions, traversal, labels, r));
+                       crossings_at_ends(det, graph, passages, regions, ending, traversal, labels, r));
     settle_tops_by_labels(det.crossings, labels, r);
     return labels;
   });
