@@ -15,7 +15,9 @@ namespace mbest {
 // One crossing: where two strands pass over each other (their paths through a crossing
 // region meet). Three strands through one point are three crossings, one per pair.
 // Two strands that cross over (once; a pair twisted once round the other inside one
-// crossing region is two crossings). Strands that only touch are none.
+// crossing region is two crossings). Strands that only touch are none. A DLO that ends at
+// a crossing region with its tip past a strand through it (over it, or under it with a stub
+// showing beyond) crosses that strand too.
 struct Crossing {
   cv::Point2f location;  // where the two paths come closest (or change sides), pixels
   double angle_deg = 0;  // angle between the strands' tangents, in [0, 90]
