@@ -101,8 +101,9 @@ struct EndOnRod {
   std::vector<cv::Mat> gt;  // red, blue: each without the pixels the other covers
 };
 
-// The blue rod ends lying on the red one at `angle_deg`, its tip just past the red rod's axis.
-EndOnRod end_on_rod(double angle_deg) {
+// The blue rod ends lying on the red one at `angle_deg`, its tip just past the red rod's axis;
+// drawn over it, or under it when `blue_over` is false.
+EndOnRod end_on_rod(double angle_deg, bool blue_over = true) {
   EndOnRod s;
   const cv::Size size(420, 240);
   const double a = angle_deg * M_PI / 180;
@@ -110,7 +111,10 @@ EndOnRod end_on_rod(double angle_deg) {
       {{20, 120}, {400, 120}},
       {cv::Point(cvRound(210 + 170 * std::cos(a)), cvRound(117 + 170 * std::sin(a))), {210, 117}}};
   s.mask = scene(size, rods, 13, &s.gt);
-  s.gt[0] &= ~s.gt[1];
+  if (blue_over)
+    s.gt[0] &= ~s.gt[1];
+  else
+    s.gt[1] &= ~s.gt[0];
   s.bgr = painted(s.gt, {kRed, kBlue});
   return s;
 }
@@ -142,19 +146,7 @@ TEST(Detector, RodEndingOnAnotherIsOnTopWhereItsColourShows) {
     for (bool blue_on_top : {true, false}) {
       const std::string scene = std::to_string(static_cast<int>(angle)) + " degrees, blue " +
                                 (blue_on_top ? "over" : "under") + " red";
-      EndOnRod s = end_on_rod(angle);
-      if (!blue_on_top) {  // repaint: red over the blue end
-        s.gt[0] = s.mask.clone();
-        s.gt[1].setTo(0);
-        const double a = angle * M_PI / 180;
-        test::draw_rod(s.gt[1], {{cvRound(210 + 170 * std::cos(a)), cvRound(117 + 170 * std::sin(a))}, {210, 117}}, 13);
-        s.gt[1] &= s.mask;
-        cv::Mat red_rod = cv::Mat::zeros(s.mask.size(), CV_8UC1);
-        test::draw_rod(red_rod, {{20, 120}, {400, 120}}, 13);
-        s.gt[1] &= ~red_rod;
-        s.gt[0] = red_rod;
-        s.bgr = painted(s.gt, {kRed, kBlue});
-      }
+      const EndOnRod s = end_on_rod(angle, blue_on_top);
       auto r = detect(s.mask, s.bgr);
       ASSERT_TRUE(r.ok());
       ASSERT_EQ(r.value().dlos.size(), 2u) << scene;
