@@ -206,13 +206,18 @@ struct EndCrossing {
   int passage = -1;   // the strand it crosses
 };
 
+// The shortest run of a DLO's own labels past a strand it ends across that counts as its
+// stub there, in px.
+constexpr float kMinStub = 2.0f;
+
 // Adds to det.crossings each crossing of an open DLO's end with a strand through the region
 // where that DLO ends (at an exit no passage takes): where its last 6 r px of centerline
 // meet the strand's path and its tip lies past it. The centerline's tip says little there:
 // extend_ends runs it on through the other strand to the mask's edge. The labels say more:
 // the DLO's own pixels (its colour, where it lies on top; its stub, where it ends just
-// past the other) reach beyond the crossing by its radius and more when its tip is past
-// the other's axis. Their order is left to settle_tops_by_labels.
+// past the other) reach beyond the crossing by more than its radius when its tip is past
+// the other's axis (a round tip lies a radius past its centerline's end). Their order is
+// left to settle_tops_by_labels.
 std::vector<EndCrossing> crossings_at_ends(Detection& det, const SkeletonGraph& g,
                                            const std::vector<Passage>& passages,
                                            const std::vector<CrossingRegion>& regions,
@@ -251,17 +256,28 @@ std::vector<EndCrossing> crossings_at_ends(Detection& det, const SkeletonGraph& 
         if (tr.passage_dlo[p] == d || !paths_meet(tail, ps.path)) continue;
         if (side_of_path(ps.path, tail.front()) * side_of_path(ps.path, tail.back()) >= 0) continue;
         const cv::Point2f x = closest_approach(tail, ps.path, regions[k].centre);
-        // How far the DLO's own pixels reach ahead of the crossing, within the mask.
-        float reached = 0;
+        // How far the DLO's own pixels reach ahead of the crossing, within the mask: to the
+        // end of its last run of them there, the one from the crossing or, beyond the other
+        // strand, its stub (a run at least kMinStub long, or cut short by the image's border:
+        // not a stray pixel of its label at the other's edge).
+        float reached = 0, run_start = -1;
         for (float t = 0; t <= 8 * r; t += 0.5f) {
           const cv::Point2f q = x + ahead * t;
           const cv::Point c(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y)));
-          if (!image.contains(c)) break;
+          if (!image.contains(c)) {
+            if (run_start >= 0) reached = t - 0.5f;
+            break;
+          }
           const uint16_t label = labels.at<uint16_t>(c);
           if (label == 0) break;
-          if (label == d + 1) reached = t;
+          if (label != d + 1) {
+            run_start = -1;
+            continue;
+          }
+          if (run_start < 0) run_start = t;
+          if (run_start == 0 || t - run_start >= kMinStub) reached = t;
         }
-        if (reached <= own_radius + 1) continue;
+        if (reached <= own_radius) continue;
         Crossing c;
         c.location = x;
         c.angle_deg = line_angle_deg(ahead, direction_near(ps.path, x));
