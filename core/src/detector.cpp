@@ -351,15 +351,68 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
   return tops;
 }
 
+// A strand that ends at a crossing region (exit `e`, tangent `t`) may run on along a strand
+// leaving the region straight ahead of it, lying at its side or half under it (a shallow
+// crossing, then the two side by side). Its pixels there show its colour, but they are
+// nearer the other strand's centerline. So a colour zone with the region's colours (added
+// to `zones`) runs along the other DLO's centerline from the region, up to `max_length` px,
+// while the mask there is at least as wide as the ending strand: where it is narrower the
+// ending strand cannot lie alongside, and after a gap of 4 of its radii it has ended or
+// lies wholly under the other. The zone relabels only pixels of the region's DLOs: a DLO
+// from elsewhere, of one of their colours, may lie across or along the band (relabelling
+// those too broke more crossings on held-out scenes than it mended).
+void zones_along_bands(std::vector<ColourZone>& zones, const SkeletonGraph& g, const std::vector<Passage>& passages,
+                       const Detection& det, const Traversal& tr, const BranchEnd& e,
+                       const BranchTangent& t, int region, double max_length) {
+  const Branch& own = g.branches[e.branch];
+  if (own.radius.empty()) return;
+  const float single = middle_value(own.radius);
+  const int max_gap = static_cast<int>(std::lround(4 * single));
+  for (size_t i = 0; i < passages.size(); ++i) {
+    const Passage& p = passages[i];
+    if (p.region != region || tr.passage_dlo[i] < 0) continue;
+    const Dlo& other = det.dlos[tr.passage_dlo[i]];
+    const int n = static_cast<int>(other.centerline.size());
+    if (n < 2) continue;
+    for (const BranchTangent* ahead : {&p.from_tangent, &p.to_tangent}) {
+      if (ahead->direction.dot(t.direction) > -0.5f) continue;  // turns 60 degrees or more off
+      ColourZone z;
+      z.colours = zones[region].colours;  // the ending DLO's among them
+      z.own_pixels_only = true;
+      // From the other DLO's centerline pixel nearest where it leaves the region, outwards.
+      int from = 0;
+      float nearest = std::numeric_limits<float>::infinity();
+      for (int k = 0; k < n; ++k) {
+        const cv::Point2f d = cv::Point2f(other.centerline[k]) - ahead->point;
+        if (d.dot(d) < nearest) nearest = d.dot(d), from = k;
+      }
+      const int step =
+          from + 1 < n && cv::Point2f(other.centerline[from + 1] - other.centerline[from]).dot(ahead->direction) > 0 ? 1 : -1;
+      int gap = 0;
+      for (int k = from, walked = 0; k >= 0 && k < n && gap <= max_gap && walked <= max_length; k += step, ++walked) {
+        if (other.radius[k] < single) {
+          ++gap;
+          continue;
+        }
+        gap = 0;
+        z.discs.push_back({other.centerline[k], other.radius[k]});
+      }
+      zones.push_back(std::move(z));
+    }
+  }
+}
+
 // One colour zone per crossing region (refine_labels_by_colour skips those fewer than two
 // DLOs meet in): discs over its inner branches and junctions (radius: the mask's half width
 // there) and over the paths drawn through it, and each DLO's colour at the exits it takes
 // or ends at. A DLO ending at a crossing (a T) most often ends on top of the strand there
 // or just past it: where its colour shows over the other's, those pixels are its own.
+// Where it runs on alongside a strand leaving the region, a zone of the two runs along
+// that strand (zones_along_bands).
 std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
                                      const std::vector<Passage>& passages,
-                                     const std::vector<std::vector<BranchEnd>>& ending, const Traversal& tr,
-                                     TangentCache& tangents) {
+                                     const std::vector<std::vector<BranchEnd>>& ending, const Detection& det,
+                                     const Traversal& tr, TangentCache& tangents, double max_band_length) {
   std::vector<ColourZone> zones(regions.size());
   for (size_t i = 0; i < passages.size(); ++i) {
     const Passage& p = passages[i];
@@ -385,6 +438,11 @@ std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<C
     for (const auto& [c, radius] : z.discs) widest = std::max(widest, radius);
     for (int n : regions[r].nodes) z.discs.push_back({cv::Point(g.nodes[n].centre), widest});
   }
+  for (size_t r = 0; r < regions.size(); ++r)
+    for (const BranchEnd& e : ending[r]) {
+      const BranchTangent t = tangents.of({e})[0];
+      if (t.has_colour) zones_along_bands(zones, g, passages, det, tr, e, t, static_cast<int>(r), max_band_length);
+    }
   return zones;
 }
 
@@ -538,7 +596,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   det.labels = stage("instance_mask", [&] {
     cv::Mat labels = instance_labels(mask, det.dlos, tops);
     if (!bgr.empty() && config.colour_weight > 0 && config.colour_label_margin > 0)
-      refine_labels_by_colour(labels, mask, bgr, colour_zones(graph, regions, passages, ending, traversal, tangents),
+      refine_labels_by_colour(labels, mask, bgr, colour_zones(graph, regions, passages, ending, det, traversal, tangents,
+                                                                config.wide_radii * r),
                               config.colour_label_margin, 3 * config.colour_label_margin);
     list_dlo_crossings(det, traversal, crossings_of,
                        crossings_at_ends(det, graph, passages, regions, ending, traversal, labels, r));

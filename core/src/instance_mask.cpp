@@ -213,6 +213,8 @@ void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat
       float rival = std::numeric_limits<float>::infinity();
       if (label > 0 && current != dlos.end() && *current == label - 1) {
         rival = nearest[static_cast<size_t>(current - dlos.begin())];
+      } else if (z.own_pixels_only) {
+        continue;
       } else {
         for (size_t i = 0; i < nearest.size(); ++i)
           if (i != best) rival = std::min(rival, nearest[i]);

@@ -164,6 +164,39 @@ TEST(Detector, RodEndingOnAnotherIsOnTopWhereItsColourShows) {
     }
 }
 
+// A blue rod crosses a red one at about 30 degrees, then lies along the red one's side, half
+// under it, for 110 px and ends there: past the crossing the mask is a band wider than
+// either rod, the blue rod's half of it showing blue.
+TEST(Detector, RodEndingAlongAnotherAfterCrossingItIsLabelledAlongIt) {
+  for (bool mirrored : {false, true}) {
+    SCOPED_TRACE(mirrored ? "mirrored" : "as drawn");
+    const cv::Size size(420, 240);
+    cv::Mat red = cv::Mat::zeros(size, CV_8UC1), blue = red.clone();
+    test::draw_rod(red, {{20, 100}, {400, 100}}, 13);
+    test::draw_rod(blue, {{60, 10}, {205, 107}, {330, 107}}, 9);
+    if (mirrored) {
+      cv::flip(red, red, 1);
+      cv::flip(blue, blue, 1);
+    }
+    const cv::Mat mask = red | blue;
+    std::vector<cv::Mat> gt{red, blue & ~red};
+    const cv::Mat bgr = painted(gt, {kRed, kBlue});
+    auto r = detect(mask, bgr);
+    ASSERT_TRUE(r.ok());
+    ASSERT_EQ(r.value().dlos.size(), 2u);
+    const cv::Mat& labels = r.value().labels;
+    const auto at = [&](int x, int y) { return labels.at<uint16_t>(y, mirrored ? size.width - 1 - x : x); };
+    const uint16_t blue_label = at(90, 30), red_label = at(40, 100);
+    ASSERT_NE(blue_label, red_label);
+    // The blue rod's visible half below the red one, all along the stretch.
+    int blue_below = 0, below = 0;
+    for (int x = 230; x <= 320; x += 5, ++below) blue_below += at(x, 109) == blue_label;
+    EXPECT_EQ(blue_below, below);
+    EXPECT_EQ(at(300, 100), red_label);
+    EXPECT_GT(test::strict_dice(gt, labels), 0.97);
+  }
+}
+
 // A blue rod that passes under a red one and ends `stub` px past its edge (to the blue
 // rod's tip, measured along it).
 EndOnRod end_past_rod(double angle_deg, double stub, int wa = 13, int wb = 13) {

@@ -109,6 +109,23 @@ TEST(InstanceMask, ColourBeatsTheDrawnLabelEvenBesideANearColour) {
   EXPECT_EQ(b.labels.at<uint16_t>(15, 20), 1) << "red stays with DLO 0";
 }
 
+// A zone along two strands lying side by side (DLOs 0 and 1) relabels only their pixels:
+// the blue pixels drawn as a third DLO (label 3, say a blue rod across the band that the
+// zone does not list) keep their label; without the flag they go to the blue DLO.
+TEST(InstanceMask, ZoneOfTwoStrandsLeavesAThirdDlosPixelsAlone) {
+  ColourZone z;
+  for (int x = 10; x < 50; x += 2) z.discs.push_back({cv::Point(x, 20), 11.0f});
+  z.colours = {{0, lab_of({40, 40, 200})}, {1, lab_of({200, 90, 30})}};
+  for (bool own_only : {true, false}) {
+    Band b;
+    b.labels(cv::Rect(36, 20, 4, 10)).setTo(3);
+    z.own_pixels_only = own_only;
+    refine_labels_by_colour(b.labels, b.mask, b.bgr, {z}, 10, 30);
+    EXPECT_EQ(b.labels.at<uint16_t>(25, 20), 2) << "blue drawn as red goes to the blue DLO";
+    EXPECT_EQ(b.labels.at<uint16_t>(25, 37), own_only ? 3 : 2) << "blue drawn as a third DLO";
+  }
+}
+
 TEST(InstanceMask, ColourLeavesLabelsAloneWhenItCannotTellTheDlosApart) {
   ColourZone z;
   for (int x = 10; x < 70; x += 2) z.discs.push_back({cv::Point(x, 20), 11.0f});

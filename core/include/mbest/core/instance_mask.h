@@ -34,6 +34,9 @@ cv::Mat instance_labels(const cv::Mat& mask, const std::vector<Dlo>& dlos,
 struct ColourZone {
   std::vector<std::pair<cv::Point, float>> discs;
   std::vector<std::pair<int, cv::Vec3f>> colours;  // (DLO index, colour)
+  // Relabel only pixels already labelled with one of the zone's DLOs: a zone along two
+  // strands lying side by side may cross a third DLO of one of their colours.
+  bool own_pixels_only = false;
 };
 
 // Relabels each mask pixel inside a zone to the DLO whose colour is nearest the pixel's
