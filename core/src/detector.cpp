@@ -407,8 +407,8 @@ void zones_along_bands(std::vector<ColourZone>& zones, const SkeletonGraph& g, c
 // there) and over the paths drawn through it, and each DLO's colour at the exits it takes
 // or ends at. A DLO ending at a crossing (a T) most often ends on top of the strand there
 // or just past it: where its colour shows over the other's, those pixels are its own.
-// Where it runs on alongside a strand leaving the region, a zone of the two runs along
-// that strand (zones_along_bands).
+// Where it runs on alongside a strand leaving the region, a zone with the region's colours
+// runs along that strand (zones_along_bands).
 std::vector<ColourZone> colour_zones(const SkeletonGraph& g, const std::vector<CrossingRegion>& regions,
                                      const std::vector<Passage>& passages,
                                      const std::vector<std::vector<BranchEnd>>& ending, const Detection& det,

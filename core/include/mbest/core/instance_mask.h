@@ -34,15 +34,15 @@ cv::Mat instance_labels(const cv::Mat& mask, const std::vector<Dlo>& dlos,
 struct ColourZone {
   std::vector<std::pair<cv::Point, float>> discs;
   std::vector<std::pair<int, cv::Vec3f>> colours;  // (DLO index, colour)
-  // Relabel only pixels already labelled with one of the zone's DLOs: a zone along two
-  // strands lying side by side may cross a third DLO of one of their colours.
+  // Relabel only pixels already labelled with one of the zone's DLOs: a zone running along
+  // strands lying side by side may cross a DLO from elsewhere of one of their colours.
   bool own_pixels_only = false;
 };
 
 // Relabels each mask pixel inside a zone to the DLO whose colour is nearest the pixel's
 // (colour_distance) when that is at most `max_distance` and nearer by at least `margin`
 // than the DLO the pixel is labelled with (a pixel labelled with no DLO of the zone: than
-// every other DLO of the zone). The drawn label is the rival to beat, not every DLO of the
+// every other DLO of the zone, or not at all with `own_pixels_only`). The drawn label is the rival to beat, not every DLO of the
 // zone: a grey strand hidden under a red one is told apart from it plainly, even where the
 // grey is near the white of a third DLO there. Other pixels keep their label: glare, edges
 // blended with the background, DLOs of one colour, and a DLO paired wrongly through the
