@@ -380,12 +380,7 @@ void zones_along_bands(std::vector<ColourZone>& zones, const SkeletonGraph& g, c
       z.colours = zones[region].colours;  // the ending DLO's among them
       z.own_pixels_only = true;
       // From the other DLO's centerline pixel nearest where it leaves the region, outwards.
-      int from = 0;
-      float nearest = std::numeric_limits<float>::infinity();
-      for (int k = 0; k < n; ++k) {
-        const cv::Point2f d = cv::Point2f(other.centerline[k]) - ahead->point;
-        if (d.dot(d) < nearest) nearest = d.dot(d), from = k;
-      }
+      const int from = static_cast<int>(nearest_pixel(other.centerline, ahead->point));
       const int step =
           from + 1 < n && cv::Point2f(other.centerline[from + 1] - other.centerline[from]).dot(ahead->direction) > 0 ? 1 : -1;
       int gap = 0;
