@@ -42,12 +42,13 @@ struct ColourZone {
 // Relabels each mask pixel inside a zone to the DLO whose colour is nearest the pixel's
 // (colour_distance) when that is at most `max_distance` and nearer by at least `margin`
 // than the DLO the pixel is labelled with (a pixel labelled with no DLO of the zone: than
-// every other DLO of the zone, or not at all with `own_pixels_only`). The drawn label is the rival to beat, not every DLO of the
-// zone: a grey strand hidden under a red one is told apart from it plainly, even where the
-// grey is near the white of a third DLO there. Other pixels keep their label: glare, edges
-// blended with the background, DLOs of one colour, and a DLO paired wrongly through the
-// crossing (it carries both strands' colours, so neither wins). `labels` as instance_labels
-// returns it; `bgr` CV_8UC3 of the mask's size (nothing happens when it is empty).
+// every other DLO of the zone, or not at all with `own_pixels_only`). The drawn label is
+// the rival to beat, not every DLO of the zone: a grey strand hidden under a red one is
+// told apart from it plainly, even where the grey is near the white of a third DLO there.
+// Other pixels keep their label: glare, edges blended with the background, DLOs of one
+// colour, and a DLO paired wrongly through the crossing (it carries both strands' colours,
+// so neither wins). `labels` as instance_labels returns it; `bgr` CV_8UC3 of the mask's
+// size (nothing happens when it is empty).
 void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat& bgr,
                              const std::vector<ColourZone>& zones, double margin,
                              double max_distance);
