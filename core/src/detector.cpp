@@ -485,6 +485,7 @@ constexpr ConfigField kConfigFields[] = {
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
     {"unlike_end_energy", &DetectorConfig::unlike_end_energy, 0, 1000},
     {"border_fold_energy", &DetectorConfig::border_fold_energy, 0, 1000},
+    {"colour_fold_energy", &DetectorConfig::colour_fold_energy, 0, 1000},
     {"colour_label_margin", &DetectorConfig::colour_label_margin, 0, 1000},
     {"side_by_side_radii", &DetectorConfig::side_by_side_radii, 0, 1000}};
 
@@ -555,7 +556,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   const double spur_length = 2 * r;  // the paper's delta: split ends, and forked tips' prongs
   stage("prune", [&] {
     return prune_split_ends(graph, spur_length, mask.size(), colour) +
-           cut_folds_at_border(graph, config.fit_radii * r, mask.size(), config.border_fold_energy);
+           cut_folds_at_border(graph, config.fit_radii * r, mask.size(), config.border_fold_energy) +
+           cut_folds_between_colours(graph, config.fit_radii * r, colour, config.colour_fold_energy);
   });
   stage("strands", [&] { return split_side_by_side(graph, mask, config.side_by_side_radii * r); });
   // Exit tangents and colours depend on their own branch only: computed once, on demand,

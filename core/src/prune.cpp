@@ -5,6 +5,7 @@
 
 #include "mbest/core/bending.h"
 #include "mbest/core/geometry.h"
+#include "mbest/core/median.h"
 
 namespace mbest {
 
@@ -110,32 +111,87 @@ int prune_split_ends(SkeletonGraph& g, double delta, cv::Size image, const Colou
   return removed;
 }
 
+namespace {
+
+// The turn of a branch at its pixels [s, e]: the cosine between the chords `k` px before s
+// and after e when the arms before those chords run straight into them (within 30 degrees
+// between the chords from 2 k to k px and from k px to the pixel); 2 (no turn) if they do
+// not. Near a junction the chords shrink to what the arm allows, down to `k_min` px.
+class BranchTurn {
+ public:
+  BranchTurn(const std::vector<cv::Point>& px, int k) : px_(px), n_(static_cast<int>(px.size())), k_(k) {}
+  int k() const { return k_; }
+  int k_min() const { return std::max(2, k_ / 2); }
+  int chord_before(int s) const { return std::min(k_, s / 2); }
+  int chord_after(int e) const { return std::min(k_, (n_ - 1 - e) / 2); }
+  double cosine(int s, int e) const {
+    const float straight_arm = std::cos(static_cast<float>(M_PI) / 6);
+    const int kb = chord_before(s), ka = chord_after(e);
+    if (kb < k_min() || ka < k_min()) return 2;
+    const cv::Point2f before = unit(cv::Point2f(px_[s] - px_[s - kb])), after = unit(cv::Point2f(px_[e + ka] - px_[e]));
+    if (unit(cv::Point2f(px_[s - kb] - px_[s - 2 * kb])).dot(before) < straight_arm ||
+        unit(cv::Point2f(px_[e + 2 * ka] - px_[e + ka])).dot(after) < straight_arm)
+      return 2;
+    return before.dot(after);
+  }
+
+ private:
+  const std::vector<cv::Point>& px_;
+  int n_, k_;
+};
+
+// Does a turn of cosine `cosine` fold back with more bending energy than `fold_energy`
+// (that of a turn at a point, 8 tan^2(turn / 4))?
+bool folds(double cosine, double fold_energy) {
+  if (cosine > 1) return false;
+  const double quarter_turn = std::acos(std::clamp(cosine, -1.0, 1.0)) / 4;
+  return 8 * std::tan(quarter_turn) * std::tan(quarter_turn) > fold_energy;
+}
+
+// Cuts branch `bi` at its pixels [tip, last]: pixels [0, tip - 1) stay with the branch,
+// which now ends at pixel tip - 1; pixels tip - 1 and last + 1 become ends, pixels tip to
+// last are dropped; [last + 2, n) is a new branch from the end at last + 1 to the old far
+// node.
+void cut_branch(SkeletonGraph& g, int bi, int tip, int last) {
+  const std::vector<cv::Point>& px = g.branches[bi].pixels;
+  const std::vector<float>& radius = g.branches[bi].radius;
+  const int first_end = static_cast<int>(g.nodes.size()), second_end = first_end + 1;
+  const int second = static_cast<int>(g.branches.size());
+  for (cv::Point at : {px[tip - 1], px[last + 1]}) {
+    Node e;
+    e.kind = Node::Kind::end;
+    e.pixels = {at};
+    e.centre = cv::Point2f(at);
+    g.nodes.push_back(e);
+  }
+  Branch tail;
+  tail.pixels.assign(px.begin() + last + 2, px.end());
+  if (!radius.empty()) tail.radius.assign(radius.begin() + last + 2, radius.end());
+  tail.node[0] = second_end;
+  tail.node[1] = g.branches[bi].node[1];
+  Branch& head = g.branches[bi];
+  head.pixels.resize(tip - 1);
+  if (!head.radius.empty()) head.radius.resize(tip - 1);
+  for (BranchEnd& e : g.nodes[head.node[1]].branch_ends)
+    if (e == BranchEnd{bi, 1}) e = {second, 1};
+  head.node[1] = first_end;
+  for (Branch* b : {&head, &tail}) b->length = branch_length(b->pixels);
+  g.nodes[first_end].branch_ends = {{bi, 1}};
+  g.nodes[second_end].branch_ends = {{second, 0}};
+  g.branches.push_back(std::move(tail));
+}
+
+}  // namespace
+
 int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double fold_energy) {
-  const float kStraightArm = std::cos(static_cast<float>(M_PI) / 6);
-  const int k = std::max(2, static_cast<int>(reach));
-  // An arm that runs into a junction (the next crossing) sooner than 2 reach px from the
-  // turn is measured with chords as long as it allows, down to half of reach.
-  const int k_min = std::max(2, k / 2);
   int cuts = 0;
   for (size_t bi = 0, n_branches = g.branches.size(); bi < n_branches; ++bi) {
     if (!g.branches[bi].alive) continue;
     const std::vector<cv::Point>& px = g.branches[bi].pixels;
     const std::vector<float>& radius = g.branches[bi].radius;
     const int n = static_cast<int>(px.size());
-    // The turn at pixels [s, e] of the branch: between the chords reach px before s and
-    // after e, when the arms before those chords run straight into them (a small loop or a
-    // hairpin at the border turns as sharply, but all along); 2 (no turn) if they do not.
-    const auto chord_before = [&](int s) { return std::min(k, s / 2); };
-    const auto chord_after = [&](int e) { return std::min(k, (n - 1 - e) / 2); };
-    const auto turn_cosine = [&](int s, int e) -> double {
-      const int kb = chord_before(s), ka = chord_after(e);
-      if (kb < k_min || ka < k_min) return 2;
-      const cv::Point2f before = unit(cv::Point2f(px[s] - px[s - kb])), after = unit(cv::Point2f(px[e + ka] - px[e]));
-      if (unit(cv::Point2f(px[s - kb] - px[s - 2 * kb])).dot(before) < kStraightArm ||
-          unit(cv::Point2f(px[e + 2 * ka] - px[e + ka])).dot(after) < kStraightArm)
-        return 2;
-      return before.dot(after);
-    };
+    const BranchTurn turn(px, std::max(2, static_cast<int>(reach)));
+    const int k = turn.k(), k_min = turn.k_min();
     // Within the radius (plus `slack`) of the border. Thinning leaves a V's tip a pixel
     // further from some borders than from others: a single tip pixel gets one pixel more
     // than a stretch along the border, which would otherwise take in the whole apex of a
@@ -144,16 +200,11 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
       return distance_to_border(px[i], image) <= (radius.empty() ? 1.0f : radius[i]) + slack;
     };
     constexpr float kTipSlack = 2.5f, kStretchSlack = 1.5f;
-    const auto folds = [&](double cosine) {
-      if (cosine > 1) return false;
-      const double quarter_turn = std::acos(std::clamp(cosine, -1.0, 1.0)) / 4;
-      return 8 * std::tan(quarter_turn) * std::tan(quarter_turn) > fold_energy;
-    };
     int tip = -1;
     double sharpest = 2;  // cosine of the turn: -1 is a full turn back
     for (int i = 2 * k_min; i + 2 * k_min < n; ++i) {
       if (!near_border(i, kTipSlack)) continue;
-      const double c = turn_cosine(i, i);
+      const double c = turn.cosine(i, i);
       if (c < sharpest) tip = i, sharpest = c;
     }
     // Where the two leave the image a little apart, thinning runs the branch along the
@@ -163,7 +214,7 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
     // the rate they do, would over its length: a loop or a bend that leaves the image and
     // comes back turns at the border no faster than next to it.
     int last = tip;
-    if (!folds(sharpest)) {
+    if (!folds(sharpest, fold_energy)) {
       const auto angle = [](cv::Point2f a, cv::Point2f b) {
         return std::acos(std::clamp(static_cast<double>(unit(a).dot(unit(b))), -1.0, 1.0));
       };
@@ -173,9 +224,9 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
         if (!near_border(i, kStretchSlack)) continue;
         int e = i;
         while (e + 1 + 2 * k_min < n && near_border(e + 1, kStretchSlack)) ++e;
-        const int kb = chord_before(i), ka = chord_after(e);
+        const int kb = turn.chord_before(i), ka = turn.chord_after(e);
         if (e > i && e - i <= 4 * k && kb >= k_min && ka >= k_min) {
-          const double c = turn_cosine(i, e);
+          const double c = turn.cosine(i, e);
           const double arm_rate =
               std::max(angle(px[i - kb] - px[i - 2 * kb], px[i] - px[i - kb]) / kb,
                        angle(px[e + 2 * ka] - px[e + ka], px[e + ka] - px[e]) / ka);
@@ -184,36 +235,43 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
         }
         i = e;
       }
-      if (!folds(sharpest)) continue;
+      if (!folds(sharpest, fold_energy)) continue;
     }
+    cut_branch(g, static_cast<int>(bi), tip, last);
+    ++cuts;
+  }
+  return cuts;
+}
 
-    // Cut: pixels [0, tip - 1) stay with the branch, which now ends at pixel tip - 1; pixel
-    // tip - 1 and last + 1 become ends, pixels tip to last are dropped; [last + 2, n) is a
-    // new branch from the end at last + 1 to the old far node.
-    const int first_end = static_cast<int>(g.nodes.size()), second_end = first_end + 1;
-    const int second = static_cast<int>(g.branches.size());
-    for (cv::Point at : {px[tip - 1], px[last + 1]}) {
-      Node e;
-      e.kind = Node::Kind::end;
-      e.pixels = {at};
-      e.centre = cv::Point2f(at);
-      g.nodes.push_back(e);
+int cut_folds_between_colours(SkeletonGraph& g, double reach, const ColourSource& colour, double fold_energy) {
+  if (colour.bgr.empty()) return 0;
+  int cuts = 0;
+  for (size_t bi = 0, n_branches = g.branches.size(); bi < n_branches; ++bi) {
+    if (!g.branches[bi].alive) continue;
+    const std::vector<cv::Point>& px = g.branches[bi].pixels;
+    const int n = static_cast<int>(px.size());
+    const BranchTurn turn(px, std::max(2, static_cast<int>(reach)));
+    const int k_min = turn.k_min();
+    int tip = -1;
+    double sharpest = 2;
+    for (int i = 2 * k_min; i + 2 * k_min < n; ++i) {
+      const double c = turn.cosine(i, i);
+      if (c < sharpest) tip = i, sharpest = c;
     }
-    Branch tail;
-    tail.pixels.assign(px.begin() + last + 2, px.end());
-    if (!radius.empty()) tail.radius.assign(radius.begin() + last + 2, radius.end());
-    tail.node[0] = second_end;
-    tail.node[1] = g.branches[bi].node[1];
-    Branch& head = g.branches[bi];
-    head.pixels.resize(tip - 1);
-    if (!head.radius.empty()) head.radius.resize(tip - 1);
-    for (BranchEnd& e : g.nodes[head.node[1]].branch_ends)
-      if (e == BranchEnd{static_cast<int>(bi), 1}) e = {second, 1};
-    head.node[1] = first_end;
-    for (Branch* b : {&head, &tail}) b->length = branch_length(b->pixels);
-    g.nodes[first_end].branch_ends = {{static_cast<int>(bi), 1}};
-    g.nodes[second_end].branch_ends = {{second, 0}};
-    g.branches.push_back(std::move(tail));
+    if (!folds(sharpest, fold_energy)) continue;
+    // Each arm's colour over its chord's stretch, [tip - 2 kb, tip - kb] and
+    // [tip + ka, tip + 2 ka]: clear of the tips, whose pixels blend where they touch.
+    const int kb = turn.chord_before(tip), ka = turn.chord_after(tip);
+    const Branch& b = g.branches[bi];
+    const float radius = b.radius.empty() ? static_cast<float>(colour.radius) : middle_value(b.radius);
+    BranchTangent before, after;
+    for (BranchTangent* t : {&before, &after}) t->radius = radius;
+    before.cut = tip - 2 * kb, before.reach = tip - kb;
+    after.cut = n - 1 - (tip + 2 * ka), after.reach = n - 1 - (tip + ka);
+    sample_branch_colour(g, {static_cast<int>(bi), 0}, colour.bgr, &before, kb);
+    sample_branch_colour(g, {static_cast<int>(bi), 1}, colour.bgr, &after, ka);
+    if (colour_penalty(before, after) < kColourPenaltyMax) continue;
+    cut_branch(g, static_cast<int>(bi), tip, tip);
     ++cuts;
   }
   return cuts;

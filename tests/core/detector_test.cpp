@@ -726,6 +726,39 @@ TEST(Detector, RodsOfTwoColoursTouchingEndToEndAreTwoDlos) {
   EXPECT_EQ(joined.value().dlos.size(), 1u) << "without colour the rods must join: else this test proves nothing";
 }
 
+TEST(Detector, RodsOfTwoColoursMeetingTipToTipAreTwoDlos) {
+  // A green rod and a red one whose ends touch in the middle of the picture, meeting at
+  // about 100 degrees: the mask is one V with no junction, and only the colours tell the
+  // two rods apart.
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({400, 300}, {{{60, 260}, {200, 60}}, {{340, 260}, {204, 60}}}, 13, &gt);
+  auto r = detect(mask, painted(gt, {cv::Scalar(60, 170, 40), cv::Scalar(70, 60, 210)}));
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 2u);
+  EXPECT_GT(test::strict_dice(gt, r.value().labels), 0.95);
+  auto joined = detect(mask);
+  ASSERT_TRUE(joined.ok());
+  EXPECT_EQ(joined.value().dlos.size(), 1u) << "without colour the rods must join: else this test proves nothing";
+  DetectorConfig never_cut;
+  never_cut.colour_fold_energy = 1000;
+  auto uncut = detect(mask, painted(gt, {cv::Scalar(60, 170, 40), cv::Scalar(70, 60, 210)}), never_cut);
+  ASSERT_TRUE(uncut.ok());
+  EXPECT_EQ(uncut.value().dlos.size(), 1u) << "only the cut between colours must part them";
+}
+
+TEST(Detector, TightHairpinOfOneColourStaysOneDlo) {
+  // One red rod bent back in a hairpin of radius 13 px (about 2 radii) in the middle of the
+  // picture: with the colour image, only a fold between two colours is cut.
+  std::vector<cv::Point> hairpin = test::arc({200, 80}, 13, M_PI, 2 * M_PI);
+  hairpin.insert(hairpin.begin(), cv::Point(187, 260));
+  hairpin.emplace_back(213, 260);
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({400, 300}, {hairpin}, 11, &gt);
+  auto r = detect(mask, painted(gt, {cv::Scalar(70, 60, 210)}));
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().dlos.size(), 1u);
+}
+
 TEST(Detector, CrossingInTheCornerDoesNotCrash) {
   // Two rods crossing where both leave the image: an L-shaped blob, ambiguous by nature.
   const cv::Mat mask = scene({200, 200}, {{{-20, 8}, {220, 8}}, {{5, -20}, {5, 220}}}, 13);

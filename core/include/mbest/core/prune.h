@@ -52,4 +52,16 @@ int prune_split_ends(SkeletonGraph& graph, double delta, cv::Size image,
 // after the cut. Returns the number of cuts.
 int cut_folds_at_border(SkeletonGraph& graph, double reach, cv::Size image, double fold_energy);
 
+// Two DLOs whose tips touch: the mask joins them into a V and thinning runs one branch
+// round its tip, so the two would be traversed as one. An elastic rod neither folds at a
+// point nor changes colour there: a branch is cut at its sharpest pixel, anywhere in the
+// image, when it turns back there sharper than `fold_energy` (measured as in
+// cut_folds_at_border, arms running straight up to it) and its two arms, sampled over the
+// chords before and after that pixel (clear of the tips, which blend where they touch),
+// differ in colour by at least 3 kColourTolerance (colour_penalty at its cap). Without an
+// image (`colour.bgr` empty) nothing is cut: a hairpin bent as tightly as a rod can lies
+// on both arms of one colour. Returns the number of cuts.
+int cut_folds_between_colours(SkeletonGraph& graph, double reach, const ColourSource& colour,
+                              double fold_energy);
+
 }  // namespace mbest
