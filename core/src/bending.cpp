@@ -462,7 +462,7 @@ void recolour_wide_exit(const SkeletonGraph& g, const std::vector<BranchEnd>& ex
 }  // namespace
 
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache,
-                                    double fold_energy, double unlike_energy) {
+                                    double fold_energy, double unlike_energy, double unlike_fold_energy) {
   const double colour_weight = cache.setup().colour_weight;
   // An exit whose tangent and colour come from a full fit, not from a stub of a branch.
   const auto fully_fitted = [&](const BranchTangent& t) {
@@ -470,9 +470,9 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
   };
   // Two DLOs that end inside one crossing region: its least-cost pairing pairs every exit
   // it can, so their ends are joined unless their colours and the bend say otherwise.
-  const auto unlike = [&](const BranchTangent& a, const BranchTangent& b) {
+  const auto unlike = [&](const BranchTangent& a, const BranchTangent& b, double energy) {
     return colour_penalty(a, b) >= kColourPenaltyMax && fully_fitted(a) && fully_fitted(b) &&
-           pair_cost(a, b, 0) >= unlike_energy;
+           pair_cost(a, b, 0) >= energy;
   };
   std::vector<Passage> passages;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
@@ -480,9 +480,11 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
     if (region.exits.size() < 2) continue;
     std::vector<BranchTangent> tangents = cache.of(region.exits);
     recolour_wide_exit(cache.graph(), region.exits, cache.setup(), tangents);
-    if (tangents.size() == 2 && pair_cost(tangents[0], tangents[1], 0) > fold_energy) continue;
+    if (tangents.size() == 2 && (pair_cost(tangents[0], tangents[1], 0) > fold_energy ||
+                                 unlike(tangents[0], tangents[1], unlike_fold_energy)))
+      continue;
     for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
-      if (unlike(tangents[i], tangents[j])) continue;  // both strands end here
+      if (unlike(tangents[i], tangents[j], unlike_energy)) continue;  // both strands end here
       Passage p;
       p.region = r;
       p.from = region.exits[i];

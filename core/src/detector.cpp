@@ -574,7 +574,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
                  config.lone_y_cost, config.merge_gain);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
                                   config.merge_gain, config.wide_radii * r, spur_length);
-    return build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy);
+    return build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy,
+                          config.colour_fold_energy);
   });
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);

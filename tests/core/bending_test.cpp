@@ -747,5 +747,30 @@ TEST(Bending, TwoDLOsOfDifferentColoursEndingInACrossingAreNotJoined) {
   EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-80, 120, blue, green), 4.0)) << "a gentle bend";
 }
 
+// Two DLOs whose ends touch, meeting at `turn` degrees: a junction left with just their two
+// exits, in the colours given. Does build_passages join them into one strand?
+bool two_exits_joined(double turn, const cv::Scalar& a, const cv::Scalar& b, double unlike_fold_energy) {
+  HandGraph h;
+  h.bgr = cv::Mat(200, 200, CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Point c(100, 100);
+  const int j = h.node(c, Node::Kind::junction);
+  const double out = turn * M_PI / 180;  // the second branch's direction, off straight on
+  h.branch(h.node({30, 100}, Node::Kind::end), j, a);
+  h.branch(j, h.node(c + cv::Point(cvRound(70 * std::cos(out)), cvRound(-70 * std::sin(out))), Node::Kind::end), b);
+  const std::vector<CrossingRegion> regions = h.regions_of({j});
+  const PairingSetup setup{2, 20, h.bgr, 2.0};
+  TangentCache tangents(h.graph, setup);
+  return !build_passages(regions, tangents, 4.0, 4.0, unlike_fold_energy).empty();
+}
+
+TEST(Bending, TwoExitsOfDifferentColoursArePartedAtAFold) {
+  const cv::Scalar blue(200, 90, 30), green(40, 200, 60);
+  // A 100 degree turn: below fold_energy (4, about 140 degrees), above 1 (about 78).
+  EXPECT_FALSE(two_exits_joined(100, blue, green, 1.0)) << "two colours folding: two DLOs whose ends touch";
+  EXPECT_TRUE(two_exits_joined(100, blue, green, kOff)) << "the rule turned off";
+  EXPECT_TRUE(two_exits_joined(100, blue, blue, 1.0)) << "one colour: one DLO bending sharply";
+  EXPECT_TRUE(two_exits_joined(30, blue, green, 1.0)) << "a gentle bend: a DLO whose colour changes, say under glare";
+}
+
 }  // namespace
 }  // namespace mbest

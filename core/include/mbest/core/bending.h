@@ -215,11 +215,14 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // colour) of at least `unlike_energy`, where both tangents come from a full fit (at least
 // kFullFitShare of fit_length; a stub's colour is no evidence): those are two DLOs that
 // end inside the crossing, whose ends the least-cost pairing joins because it pairs every
-// exit it can.
+// exit it can. A region with two such exits (no other pairing to choose) parts them at the
+// lower `unlike_fold_energy`: one rod neither folds nor changes colour at a point, and two
+// DLOs of different colours whose ends touch leave a junction with just their two exits.
 inline constexpr double kFullFitShare = 0.9;
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
                                     TangentCache& tangents,
                                     double fold_energy = std::numeric_limits<double>::infinity(),
-                                    double unlike_energy = std::numeric_limits<double>::infinity());
+                                    double unlike_energy = std::numeric_limits<double>::infinity(),
+                                    double unlike_fold_energy = std::numeric_limits<double>::infinity());
 
 }  // namespace mbest
