@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "mbest/core/bending.h"
 #include "mbest/core/geometry.h"
@@ -245,6 +246,12 @@ int cut_folds_at_border(SkeletonGraph& g, double reach, cv::Size image, double f
 
 int cut_folds_between_colours(SkeletonGraph& g, double reach, const ColourSource& colour, double fold_energy) {
   if (colour.bgr.empty()) return 0;
+  // The cosine of the turn whose energy is fold_energy (folds: 8 tan^2(turn / 4)).
+  const double fold_cosine = std::cos(4 * std::atan(std::sqrt(fold_energy / 8)));
+  const bool acute_fold = fold_cosine > -1e-3;  // a fold of 90 degrees or less
+  constexpr int64_t kScale = 1 << 16;
+  const double bound = std::max(0.0, fold_cosine + 1e-3);
+  const int64_t bound_scaled = static_cast<int64_t>(std::ceil(bound * bound * kScale));
   int cuts = 0;
   for (size_t bi = 0, n_branches = g.branches.size(); bi < n_branches; ++bi) {
     if (!g.branches[bi].alive) continue;
@@ -255,6 +262,14 @@ int cut_folds_between_colours(SkeletonGraph& g, double reach, const ColourSource
     int tip = -1;
     double sharpest = 2;
     for (int i = 2 * k_min; i + 2 * k_min < n; ++i) {
+      // Every pixel of every branch is looked at: first, in integers, whether the chords
+      // turn as far as a fold at all (a turn past 90 degrees, or past `fold_cosine` plus a
+      // little, for rounding, when that is smaller).
+      const cv::Point before = px[i] - px[i - turn.chord_before(i)], after = px[i + turn.chord_after(i)] - px[i];
+      const int dot = before.dot(after);
+      if (dot >= 0 && (!acute_fold || static_cast<int64_t>(dot) * dot * kScale >=
+                                          bound_scaled * before.dot(before) * after.dot(after)))
+        continue;
       const double c = turn.cosine(i, i);
       if (c < sharpest) tip = i, sharpest = c;
     }
