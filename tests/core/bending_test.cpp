@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mbest/core/detector.h"
 #include "mbest/core/prune.h"
 #include "scenes.h"
 
@@ -745,6 +746,29 @@ TEST(Bending, TwoDLOsOfDifferentColoursEndingInACrossingAreNotJoined) {
       << "a stub's colour is no evidence";
   // Nearly straight on (a 20 degree turn): a DLO whose colour changes, say under glare.
   EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-80, 120, blue, green), 4.0)) << "a gentle bend";
+}
+
+// The default threshold parts them from a turn of about 78 degrees on: two ends 80 degrees
+// apart (a path through them would turn 100 degrees) are two DLOs ending, as two rods of
+// different colours are on generated scenes far more often than one rod changing colour
+// while folding.
+TEST(Bending, ByDefaultTwoColoursEndingInACrossingAtA100DegreeTurnAreNotJoined) {
+  const cv::Scalar blue(200, 90, 30), green(40, 200, 60);
+  const double energy = DetectorConfig{}.unlike_end_energy;
+  const TwoEnds folding = two_ends_on_a_rod(-50, -130, blue, green);
+  {
+    const PairingSetup setup = two_ends_setup(folding);
+    TangentCache tangents(folding.graph, setup);
+    const std::vector<BranchTangent> t = tangents.of(folding.regions[0].exits);
+    ASSERT_EQ(strands_of(folding.regions[0], tangents).count(strand(folding.first, folding.second)), 1u);
+    const double bend = pair_cost(t[0], t[1], 0);
+    ASSERT_GT(bend, 1.0);
+    ASSERT_LT(bend, 4.0) << "a turn the first threshold (4) let through";
+  }
+  EXPECT_FALSE(ends_joined(folding, energy)) << "two colours turning 100 degrees: two DLOs ending";
+  EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-50, -130, blue, blue), energy)) << "one colour: one DLO";
+  EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-60, 150, blue, green), energy))
+      << "a 30 degree turn: one DLO whose colour changes";
 }
 
 // Two DLOs whose ends touch, meeting at `turn` degrees: a junction left with just their two

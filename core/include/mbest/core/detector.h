@@ -93,12 +93,13 @@ struct DetectorConfig {
   // With the colour image and colour_weight > 0: two exits of a crossing region whose
   // colours differ by 30 Lab units or more (colour_penalty at its cap) are not joined when
   // their path bends with at least this energy, though the least-cost pairing pairs them:
-  // two DLOs that both end inside one crossing cluster (bending.h, build_passages). On the
-  // 5000 suite scenes of seeds 1000-13000 it fixed 4 crossings and broke 2 outside `stress`,
-  // cut `stress` pairing failures from 2183 to 2171 and raised `stress` strict DICE on four
-  // sets of five (by up to 0.4 points); at 2 `stress` DICE rose more but pairing got worse.
+  // two DLOs that both end inside one crossing cluster (bending.h, build_passages). 1 is a
+  // turn of about 78 degrees, as for colour_fold_energy. It was 4 until 2026-12-05; on the
+  // 9000 scenes of seeds 1000-21000, 1 mended 4 crossings outside `stress` (at 20-90
+  // degrees) and broke none, cut `stress` failures from 3540 to 3502 and raised strict DICE
+  // on `cables` by 0.04-0.11 points and on `stress` by 0.23; 0.5 broke a `cables` scene.
   // Large values turn it off.
-  double unlike_end_energy = 4.0;
+  double unlike_end_energy = 1.0;
   // Two DLOs leaving the image side by side touch where they leave, and thinning may run
   // one branch round the V they make there. A branch that turns sharper than this (bending
   // energy of the turn between 3 r chords before and after a pixel within a radius of the
