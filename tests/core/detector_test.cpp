@@ -744,6 +744,21 @@ TEST(Detector, RodsOfTwoColoursMeetingTipToTipAreTwoDlos) {
   EXPECT_EQ(uncut.value().dlos.size(), 1u) << "only the cut between colours must part them";
 }
 
+TEST(Detector, RodsOfTwoColoursMeetingTipToTipAt82DegreesAreTwoDlos) {
+  // The same V, opened to a turn of 82 degrees (an inner angle of 98). The skeleton rounds
+  // the tip, so the turn measured over its arms is smaller: enough for the default
+  // colour_fold_energy (0.7) to cut it, not for its first value (1), which let such a V
+  // through as one DLO (up to a drawn turn of about 90 degrees).
+  std::vector<cv::Mat> gt;
+  const cv::Mat mask = scene({420, 300}, {{{49, 191}, {200, 60}}, {{355, 191}, {204, 60}}}, 13, &gt);
+  expect_two_dlos_by_colour_alone(mask, gt);
+  DetectorConfig first_value;
+  first_value.colour_fold_energy = 1.0;
+  auto uncut = detect(mask, painted(gt, {cv::Scalar(60, 170, 40), cv::Scalar(70, 60, 210)}), first_value);
+  ASSERT_TRUE(uncut.ok());
+  EXPECT_EQ(uncut.value().dlos.size(), 1u) << "else this test does not tell the two thresholds apart";
+}
+
 TEST(Detector, TightHairpinOfOneColourStaysOneDlo) {
   // One red rod bent back in a hairpin of radius 13 px (about 2 radii) in the middle of the
   // picture: with the colour image, only a fold between two colours is cut.
