@@ -731,17 +731,24 @@ TEST(Detector, RodsOfTwoColoursTouchingEndToEndAreTwoDlos) {
   expect_two_dlos_by_colour_alone(mask, gt);
 }
 
-TEST(Detector, RodsOfTwoColoursMeetingTipToTipAreTwoDlos) {
-  // A green rod and a red one whose ends touch in the middle of the picture, meeting at
-  // about 100 degrees: the mask is one V with no junction.
+// A green rod and a red one whose ends touch in the middle of the picture at the point
+// `left_end`, `right_end` mirrored about x = 202: the mask is one V with no junction. With
+// the picture, two DLOs; with colour_fold_energy at `uncut_at`, one.
+void expect_v_of_two_colours_cut_below(cv::Point left_end, double uncut_at, const char* why) {
   std::vector<cv::Mat> gt;
-  const cv::Mat mask = scene({400, 300}, {{{60, 260}, {200, 60}}, {{340, 260}, {204, 60}}}, 13, &gt);
+  const cv::Point right_end(404 - left_end.x, left_end.y);
+  const cv::Mat mask = scene({420, 300}, {{left_end, {200, 60}}, {right_end, {204, 60}}}, 13, &gt);
   expect_two_dlos_by_colour_alone(mask, gt);
-  DetectorConfig never_cut;
-  never_cut.colour_fold_energy = 1000;
-  auto uncut = detect(mask, painted(gt, {cv::Scalar(60, 170, 40), cv::Scalar(70, 60, 210)}), never_cut);
+  DetectorConfig uncut_config;
+  uncut_config.colour_fold_energy = uncut_at;
+  auto uncut = detect(mask, painted(gt, {cv::Scalar(60, 170, 40), cv::Scalar(70, 60, 210)}), uncut_config);
   ASSERT_TRUE(uncut.ok());
-  EXPECT_EQ(uncut.value().dlos.size(), 1u) << "only the cut between colours must part them";
+  EXPECT_EQ(uncut.value().dlos.size(), 1u) << why;
+}
+
+TEST(Detector, RodsOfTwoColoursMeetingTipToTipAreTwoDlos) {
+  // Meeting at about 100 degrees.
+  expect_v_of_two_colours_cut_below({62, 260}, 1000, "only the cut between colours must part them");
 }
 
 TEST(Detector, RodsOfTwoColoursMeetingTipToTipAt82DegreesAreTwoDlos) {
@@ -749,14 +756,7 @@ TEST(Detector, RodsOfTwoColoursMeetingTipToTipAt82DegreesAreTwoDlos) {
   // the tip, so the turn measured over its arms is smaller: enough for the default
   // colour_fold_energy (0.7) to cut it, not for its first value (1), which let such a V
   // through as one DLO (up to a drawn turn of about 90 degrees).
-  std::vector<cv::Mat> gt;
-  const cv::Mat mask = scene({420, 300}, {{{49, 191}, {200, 60}}, {{355, 191}, {204, 60}}}, 13, &gt);
-  expect_two_dlos_by_colour_alone(mask, gt);
-  DetectorConfig first_value;
-  first_value.colour_fold_energy = 1.0;
-  auto uncut = detect(mask, painted(gt, {cv::Scalar(60, 170, 40), cv::Scalar(70, 60, 210)}), first_value);
-  ASSERT_TRUE(uncut.ok());
-  EXPECT_EQ(uncut.value().dlos.size(), 1u) << "else this test does not tell the two thresholds apart";
+  expect_v_of_two_colours_cut_below({49, 191}, 1.0, "else this test does not tell the two thresholds apart");
 }
 
 TEST(Detector, TightHairpinOfOneColourStaysOneDlo) {
