@@ -464,15 +464,10 @@ void recolour_wide_exit(const SkeletonGraph& g, const std::vector<BranchEnd>& ex
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache,
                                     double fold_energy, double unlike_energy, double unlike_fold_energy) {
   const double colour_weight = cache.setup().colour_weight;
-  // An exit whose tangent and colour come from a full fit, not from a stub of a branch.
-  const auto fully_fitted = [&](const BranchTangent& t) {
-    return t.last - t.cut + 1 >= kFullFitShare * cache.setup().fit_length;
-  };
   // Two DLOs that end inside one crossing region: its least-cost pairing pairs every exit
   // it can, so their ends are joined unless their colours and the bend say otherwise.
-  const auto unlike = [&](const BranchTangent& a, const BranchTangent& b, double energy) {
-    return colour_penalty(a, b) >= kColourPenaltyMax && fully_fitted(a) && fully_fitted(b) &&
-           pair_cost(a, b, 0) >= energy;
+  const auto unlike = [](const BranchTangent& a, const BranchTangent& b, double energy) {
+    return colour_penalty(a, b) >= kColourPenaltyMax && pair_cost(a, b, 0) >= energy;
   };
   std::vector<Passage> passages;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r) {

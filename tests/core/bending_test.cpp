@@ -742,8 +742,8 @@ TEST(Bending, TwoDLOsOfDifferentColoursEndingInACrossingAreNotJoined) {
   EXPECT_TRUE(ends_joined(sharp, kOff)) << "the rule turned off";
   EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-75, -105, blue, blue), 4.0))
       << "one colour: one DLO bending sharply";
-  EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-75, -105, blue, green, /*stub=*/true), 4.0))
-      << "a stub's colour is no evidence";
+  EXPECT_FALSE(ends_joined(two_ends_on_a_rod(-75, -105, blue, green, /*stub=*/true), 4.0))
+      << "a stub's colour is evidence too (once it was not: that lost crossings in clutter)";
   // Nearly straight on (a 20 degree turn): a DLO whose colour changes, say under glare.
   EXPECT_TRUE(ends_joined(two_ends_on_a_rod(-80, 120, blue, green), 4.0)) << "a gentle bend";
 }
