@@ -217,10 +217,9 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // for an exit too short for a full tangent fit (a stub between two crossings) as well:
 // asking for a full fit (90 % of fit_length) on both lost 121 more `stress` crossings on
 // 1800 scenes than it saved, and 4 on 7200 scenes of the other presets for none saved.
-// A region with two such exits
-// (no other pairing to choose) parts them at the lower `unlike_fold_energy`: one rod
-// neither folds nor changes colour at a point, and two DLOs of different colours whose
-// ends touch leave a junction with just their two exits.
+// A region with two such exits (no other pairing to choose) parts them at the lower
+// `unlike_fold_energy`: one rod neither folds nor changes colour at a point, and two DLOs
+// of different colours whose ends touch leave a junction with just their two exits.
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
                                     TangentCache& tangents,
                                     double fold_energy = std::numeric_limits<double>::infinity(),
