@@ -94,10 +94,11 @@ struct DetectorConfig {
   // colours differ by 30 Lab units or more (colour_penalty at its cap) are not joined when
   // their path bends with at least this energy, though the least-cost pairing pairs them:
   // two DLOs that both end inside one crossing cluster (bending.h, build_passages). 1 is a
-  // turn of about 78 degrees, as for colour_fold_energy. It was 4 until 2026-12-05; on the
-  // 9000 scenes of seeds 1000-21000, 1 mended 4 crossings outside `stress` (at 20-90
-  // degrees) and broke none, cut `stress` failures from 3540 to 3502 and raised strict DICE
-  // on `cables` by 0.04-0.11 points and on `stress` by 0.23; 0.5 broke a `cables` scene.
+  // turn of about 78 degrees (energies as for colour_fold_energy below, whose 0.7 is about
+  // 66). It was 4 until 2026-12-05; on the 9000 scenes of seeds 1000-21000, 1 mended 4
+  // crossings outside `stress` (at 20-90 degrees) and broke none, cut `stress` failures from
+  // 3540 to 3502 and raised strict DICE on `cables` by 0.04-0.11 points and on `stress` by
+  // 0.23; 0.5 broke a `cables` scene.
   // Large values turn it off.
   double unlike_end_energy = 1.0;
   // Two DLOs leaving the image side by side touch where they leave, and thinning may run
