@@ -346,6 +346,57 @@ TEST(Evaluation, SynthImageWithoutAnnotationIsAnError) {
 namespace mbest::validate {
 namespace {
 
+// One s3 image: rods 1 and 2 found whole (matched D 0.99 and exactly 0.95), rod 3 split (0.6).
+Evaluation failures_by_cause() {
+  Evaluation e;
+  e.dataset.synthetic = true;
+  e.dataset.tiers = {"s3"};
+  ImageResult r;
+  r.item.tier = "s3";
+  r.item.stem = "000000";
+  r.rods = {{1, 8, 1, 1, 0.99}, {2, 8, 1, 2, 0.95}, {3, 8, 1, 3, 0.6}};
+  const auto crossing = [](int a, int b, double angle, bool assessed, bool correct) {
+    CrossingResolution c;
+    c.rod_a = a;
+    c.rod_b = b;
+    c.angle_deg = angle;
+    c.pairing_assessed = assessed;
+    c.pairing_correct = correct;
+    return c;
+  };
+  r.crossings = {crossing(1, 2, 30, true, false),   // local, 20-45
+                 crossing(1, 3, 30, true, false),   // rod 3 split, 20-45
+                 crossing(3, 3, 60, true, false),   // self-crossing of the split rod, 45-90
+                 crossing(2, 2, 50, true, false),   // self-crossing of a whole rod, 45-90
+                 crossing(1, 2, 15, true, true),    // right
+                 crossing(1, 3, 15, false, false)};  // not assessed
+  e.images.push_back(r);
+  return e;
+}
+
+TEST(Summary, APairingFailureIsLocalOnlyWhenEveryRodOfTheCrossingIsFoundWhole) {
+  const Evaluation e = failures_by_cause();
+  const ImageResult& r = e.images[0];
+  EXPECT_EQ(pairing_failure(r, r.crossings[0]), PairingFailure::kLocal);
+  EXPECT_EQ(pairing_failure(r, r.crossings[1]), PairingFailure::kRodSplitOrMerged);
+  EXPECT_EQ(pairing_failure(r, r.crossings[2]), PairingFailure::kRodSplitOrMerged);
+  EXPECT_EQ(pairing_failure(r, r.crossings[3]), PairingFailure::kLocal);
+  EXPECT_EQ(pairing_failure(r, r.crossings[4]), PairingFailure::kNone);
+  EXPECT_EQ(pairing_failure(r, r.crossings[5]), PairingFailure::kNone);
+
+  const Summary s = summarise(e);
+  ASSERT_EQ(s.tiers.size(), 1u);
+  for (const TierSummary* t : {&s.tiers[0], &s.all}) {
+    const std::vector<FailureBin>& f = t->pairing_failures_by_angle;
+    ASSERT_EQ(f.size(), 4u);
+    EXPECT_EQ(f[1].local + f[1].rod_split_or_merged, 0);  // 10-20: one right, one not assessed
+    EXPECT_EQ(f[2].local, 1);
+    EXPECT_EQ(f[2].rod_split_or_merged, 1);
+    EXPECT_EQ(f[3].local, 1);
+    EXPECT_EQ(f[3].rod_split_or_merged, 1);
+  }
+}
+
 TEST(Summary, BinsAreHalfOpenAndTheLastHoldsItsTop) {
   EXPECT_EQ(bin_index(angle_bins(), 0), 0);
   EXPECT_EQ(bin_index(angle_bins(), 9.99), 0);

@@ -142,6 +142,8 @@ TEST(Report, SyntheticReportHasCrossingTablesAndBins) {
   EXPECT_EQ(j["tiers"][0]["crossings"]["pairing_by_angle"][3]["assessed"], 1);
   EXPECT_EQ(j["tiers"][0]["crossings"]["pairing_by_angle"][0]["assessed"], 0);
   EXPECT_EQ(j["images"][0]["crossings"][0]["pairing_correct"], true);
+  EXPECT_TRUE(j["images"][0]["crossings"][0]["pairing_failure"].is_null());
+  EXPECT_NE(md.find("| s2 | - | - | - | - | - |"), std::string::npos) << md;  // no failures
   const std::string t = tier_table(e.value(), s);
   EXPECT_NE(t.find("pairing %"), std::string::npos) << t;
 
@@ -173,6 +175,39 @@ TEST(Report, SyntheticReportHasCrossingTablesAndBins) {
   EXPECT_NE(html.find("<td>s2</td><td class=num>1</td><td class=num>1</td><td class=num>2</td>"
                       "<td class=num>1</td><td class=num>100.00</td><td class=num>50.00</td>"),
             std::string::npos);
+}
+
+TEST(Report, PairingFailuresAreCountedByCauseAndMarkedOnEachCrossing) {
+  // Two failures at 20-45 degrees, one local and one where a rod (DICE 0.6) is split.
+  Evaluation e;
+  e.dataset.synthetic = true;
+  e.dataset.tiers = {"s3"};
+  ImageResult r;
+  r.item.tier = "s3";
+  r.item.stem = "000000";
+  r.item.annotation = "s3/annotations/000000.json";
+  r.rods = {{1, 8, 1, 1, 0.99}, {2, 8, 1, 2, 0.98}, {3, 8, 1, 3, 0.6}};
+  for (const int other : {2, 3}) {
+    CrossingResolution c;
+    c.rod_a = 1;
+    c.rod_b = other;
+    c.angle_deg = 30;
+    c.pairing_assessed = true;
+    r.crossings.push_back(c);
+  }
+  e.images.push_back(r);
+  const Summary s = summarise(e);
+  const std::string md = report_markdown(e, s, {});
+  EXPECT_NE(md.find("## Pairing failures by cause"), std::string::npos) << md;
+  EXPECT_NE(md.find("| s3 | - | - | 1 + 1 | - | 1 + 1 |"), std::string::npos) << md;
+  const nlohmann::json j = nlohmann::json::parse(report_json(e, s, {}));
+  EXPECT_EQ(j["images"][0]["crossings"][0]["pairing_failure"], "local");
+  EXPECT_EQ(j["images"][0]["crossings"][1]["pairing_failure"], "rod_split_or_merged");
+  const nlohmann::json& bin = j["tiers"][0]["crossings"]["pairing_failures_by_angle"][2];
+  EXPECT_EQ(bin["bin"], "20-45");
+  EXPECT_EQ(bin["local"], 1);
+  EXPECT_EQ(bin["rod_split_or_merged"], 1);
+  EXPECT_NE(report_html(e, s, {}).find("<h3>Pairing failures by cause"), std::string::npos);
 }
 
 TEST(Report, RealDataHasNoDetectedCrossings) {

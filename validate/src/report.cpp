@@ -113,6 +113,27 @@ Row tier_angle_row(const TierSummary& t) {
                            : "-");
   return r;
 }
+// Pairing failures per tier and angle bin by cause: "local + split/merged" cells, "-" where
+// the bin has none.
+Row tier_failure_header() {
+  Row h = tier_angle_header();
+  h.push_back("all angles");
+  return h;
+}
+std::string failure_cell(int local, int split) {
+  return local + split ? std::to_string(local) + " + " + std::to_string(split) : "-";
+}
+Row tier_failure_row(const TierSummary& t) {
+  Row r{t.tier};
+  int local = 0, split = 0;
+  for (const FailureBin& b : t.pairing_failures_by_angle) {
+    r.push_back(failure_cell(b.local, b.rod_split_or_merged));
+    local += b.local;
+    split += b.rod_split_or_merged;
+  }
+  r.push_back(failure_cell(local, split));
+  return r;
+}
 Row bin_header(const std::string& figure) {
   return {figure, "pairing %", "(assessed)", "order %", "(assessed)"};
 }
@@ -215,6 +236,12 @@ std::string html_table(const Row& header, const std::vector<Row>& rows) {
 }
 
 // Under the heading of the detected-crossings table, in report.md and report.html.
+// Under the heading of the pairing-failure table.
+constexpr char kFailureNote[] =
+    "Each cell: local failures (every rod of the crossing found whole, matched DICE >= 0.95) + "
+    "failures where a rod of the crossing is split, merged or missed (matched DICE < 0.95), a "
+    "figure beyond ../shared/docs/metrics.md.";
+
 constexpr char kCrossingListNote[] =
     "The detector's own crossing list matched to the ground truth's crossings, a figure beyond "
     "../shared/docs/metrics.md (see Definitions).";
@@ -238,6 +265,10 @@ std::string definitions(const Evaluation& e) {
            "radians), a crossing takes the larger of its rods'; bins of half turns: 0-3.14, "
            "3.14-6.28, 6.28-9.42, 9.42-12.57, 12.57+. Angle bins 0-10, 10-20, 20-45, 45-90 "
            "degrees. "
+           "Pairing failures by cause, a figure beyond ../shared/docs/metrics.md: local when "
+           "both rods of the crossing (its one rod for a self-crossing) have a matched DICE of "
+           "at least 0.95, so the strands switch near the crossing only; otherwise a rod is "
+           "split, merged or missed, a failure that usually starts away from the crossing. "
            "Centerline error: pixel distance from each predicted centerline point to the matched "
            "rod's ground-truth centerline and back, pooled per tier; p95 interpolated. "
            "Detected crossings, a figure beyond ../shared/docs/metrics.md: the crossing list of "
@@ -257,6 +288,23 @@ std::string definitions(const Evaluation& e) {
 
 json rate_bins_json(const std::vector<RateBin>& bins);
 
+json failure_bins_json(const std::vector<FailureBin>& bins) {
+  json out = json::array();
+  for (const FailureBin& b : bins)
+    out.push_back({{"bin", b.bin.label}, {"local", b.local},
+                   {"rod_split_or_merged", b.rod_split_or_merged}});
+  return out;
+}
+
+json failure_json(PairingFailure f) {
+  switch (f) {
+    case PairingFailure::kLocal: return "local";
+    case PairingFailure::kRodSplitOrMerged: return "rod_split_or_merged";
+    case PairingFailure::kNone: break;
+  }
+  return nullptr;
+}
+
 json tier_json(const TierSummary& t) {
   json j = {{"tier", t.tier},
             {"images", t.images},
@@ -273,7 +321,8 @@ json tier_json(const TierSummary& t) {
                            {"pairing_correct", t.pairing_correct},
                            {"order_assessed", t.order_assessed},
                            {"order_correct", t.order_correct},
-                           {"pairing_by_angle", rate_bins_json(t.pairing_by_angle)}}}};
+                           {"pairing_by_angle", rate_bins_json(t.pairing_by_angle)},
+                           {"pairing_failures_by_angle", failure_bins_json(t.pairing_failures_by_angle)}}}};
   if (t.has_centerlines)
     j["centerline_px"] = {
         {"pred_to_gt", {{"mean", t.pred_to_gt.mean}, {"p95", t.pred_to_gt.p95}, {"points", t.pred_to_gt.count}}},
@@ -353,6 +402,7 @@ json image_json(const ImageResult& r) {
                                        {"at_crossing", c.at_crossing}}},
                            {"pairing_assessed", c.pairing_assessed},
                            {"pairing_correct", c.pairing_correct},
+                           {"pairing_failure", failure_json(pairing_failure(r, c))},
                            {"order_assessed", c.order_assessed},
                            {"order_correct", c.order_correct}, {"note", c.note}});
     j["crossings"] = crossings;
@@ -514,6 +564,9 @@ std::string report_markdown(const Evaluation& e, const Summary& s, const ReportI
         << markdown_table(bin_header("angle"), bin_rows(s.pairing_by_angle, s.order_by_angle))
         << "\n## Pairing % by tier and angle (degrees), crossings assessed in brackets\n\n"
         << markdown_table(tier_angle_header(), tier_rows(s, tier_angle_row))
+        << "\n## Pairing failures by cause, per tier and angle (degrees)\n\n"
+        << kFailureNote << "\n\n"
+        << markdown_table(tier_failure_header(), tier_rows(s, tier_failure_row))
         << "\n## Crossings by curvature complexity (total_turning_rad)\n\n"
         << markdown_table(bin_header("complexity"),
                           bin_rows(s.pairing_by_complexity, s.order_by_complexity))
@@ -581,6 +634,9 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
         << html_table(bin_header("angle (degrees)"), bin_rows(s.pairing_by_angle, s.order_by_angle))
         << "<h3>Pairing % by tier and angle (degrees), crossings assessed in brackets</h3>\n"
         << html_table(tier_angle_header(), tier_rows(s, tier_angle_row))
+        << "<h3>Pairing failures by cause, per tier and angle (degrees)</h3>\n<p>"
+        << html_escape(kFailureNote) << "</p>\n"
+        << html_table(tier_failure_header(), tier_rows(s, tier_failure_row))
         << "<h3>Crossings by curvature complexity</h3>\n"
         << html_table(bin_header("total_turning_rad"),
                       bin_rows(s.pairing_by_complexity, s.order_by_complexity));

@@ -31,6 +31,7 @@ TierSummary summarise_images(const std::string& tier, const std::vector<const Im
   TierSummary t;
   t.tier = tier;
   t.pairing_by_angle = rate_bins(angle_bins());
+  for (const Bin& b : angle_bins()) t.pairing_failures_by_angle.push_back(FailureBin{b});
   t.images = static_cast<int>(images.size());
   std::vector<double> strict, lenient, detect_ms, p2g, g2p, angle_errors;
   for (const ImageResult* r : images) {
@@ -44,8 +45,13 @@ TierSummary summarise_images(const std::string& tier, const std::vector<const Im
       ++t.crossings;
       t.pairing_assessed += c.pairing_assessed;
       t.pairing_correct += c.pairing_assessed && c.pairing_correct;
-      if (c.pairing_assessed)
-        add(&t.pairing_by_angle, bin_index(angle_bins(), c.angle_deg), c.pairing_correct);
+      const int angle = bin_index(angle_bins(), c.angle_deg);
+      if (c.pairing_assessed) add(&t.pairing_by_angle, angle, c.pairing_correct);
+      const PairingFailure failure = pairing_failure(*r, c);
+      if (failure != PairingFailure::kNone && angle >= 0) {
+        FailureBin& f = t.pairing_failures_by_angle[angle];
+        ++(failure == PairingFailure::kLocal ? f.local : f.rod_split_or_merged);
+      }
       t.order_assessed += c.order_assessed;
       t.order_correct += c.order_assessed && c.order_correct;
     }
@@ -104,6 +110,17 @@ void add(std::vector<MeanBin>* bins, int index, double value) {
 }
 
 }  // namespace
+
+PairingFailure pairing_failure(const ImageResult& image, const CrossingResolution& crossing) {
+  if (!crossing.pairing_assessed || crossing.pairing_correct) return PairingFailure::kNone;
+  for (const int id : {crossing.rod_a, crossing.rod_b}) {
+    const auto rod = std::find_if(image.rods.begin(), image.rods.end(),
+                                  [id](const RodResult& r) { return r.id == id; });
+    if (rod == image.rods.end() || rod->dice < kWholeRodDice)
+      return PairingFailure::kRodSplitOrMerged;
+  }
+  return PairingFailure::kLocal;
+}
 
 const std::vector<Bin>& angle_bins() {
   static const std::vector<Bin> bins = {

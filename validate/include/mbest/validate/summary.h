@@ -29,6 +29,23 @@ struct RateBin {
   int assessed = 0, correct = 0;
 };
 
+// Why a crossing's pairing failed (beyond metrics.md), read from the matched DICE of its
+// rods: kLocal when every rod of the crossing is found whole (matched D >= kWholeRodDice), so
+// the strands switch near this crossing and nowhere much else; kRodSplitOrMerged when a rod
+// of the crossing is not (split into pieces, merged with another rod, or missed), a failure
+// that usually starts elsewhere, at a stretch where strands lie along each other. Fixing the
+// first is a matter of the crossing's own pairing, the second of the whole scene's.
+enum class PairingFailure { kNone, kLocal, kRodSplitOrMerged };
+constexpr double kWholeRodDice = 0.95;
+// kNone for a crossing not assessed or paired right.
+PairingFailure pairing_failure(const ImageResult& image, const CrossingResolution& crossing);
+
+// Pairing failures of one angle bin by cause.
+struct FailureBin {
+  Bin bin;
+  int local = 0, rod_split_or_merged = 0;
+};
+
 // The detector's crossing lists against the ground truth (crossing_list.h), summed over the
 // images whose list was read. Beyond metrics.md.
 struct CrossingListTotals {
@@ -53,6 +70,7 @@ struct TierSummary {
   int pairing_assessed = 0, pairing_correct = 0;
   int order_assessed = 0, order_correct = 0;
   std::vector<RateBin> pairing_by_angle;  // angle_bins(); the accuracy goal is per angle
+  std::vector<FailureBin> pairing_failures_by_angle;  // angle_bins()
   bool has_centerlines = false;  // some image had predicted centerlines
   DistanceSummary pred_to_gt, gt_to_pred;  // pooled over every point of the tier
   CrossingListTotals crossing_list;
