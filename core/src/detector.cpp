@@ -525,6 +525,13 @@ double Detection::total_ms() const {
   return t;
 }
 
+// How many pixels in a row a passage's Hermite curve may run off the mask before it is
+// re-routed along the mask (keep_passages_on_mask): a curve through an ordinary crossing
+// may shave an edge by a pixel or two. Over the nine seed sets (centre weight 4), 2 mended
+// the most `stress` crossings (3378 -> 3228 failures; a radius: 3260; 10 px: 3263), the
+// other presets alike.
+constexpr float kMaxOffMask = 2.f;
+
 Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const DetectorConfig& config) {
   if (mask.empty()) return Error{"mask is empty (0 x 0)"};
   if (mask.type() != CV_8UC1)
@@ -574,8 +581,10 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
                  config.lone_y_cost, config.merge_gain);
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
                                   config.merge_gain, config.wide_radii * r, spur_length);
-    return build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy,
-                          config.colour_fold_energy);
+    auto built = build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy,
+                                config.colour_fold_energy);
+    keep_passages_on_mask(built, mask, r, kMaxOffMask);
+    return built;
   });
   Traversal traversal = stage("traverse", [&] {
     return traverse(graph, passages, config.min_dlo_length_radii * r);

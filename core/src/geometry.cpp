@@ -1,7 +1,12 @@
 #include "mbest/core/geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <utility>
 
 namespace mbest {
 
@@ -43,6 +48,54 @@ std::vector<cv::Point> hermite_path(cv::Point2f a, cv::Point2f ta, cv::Point2f b
     const cv::Point2f q = h00 * a + h10 * len * ta + h01 * b + h11 * len * tb;
     append_connected(out, cv::Point(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y))));
   }
+  return out;
+}
+
+std::vector<cv::Point> path_through_mask(const cv::Mat& inside, cv::Point a, cv::Point b,
+                                         cv::Rect roi, float depth, float centre_weight) {
+  CV_Assert(inside.type() == CV_32FC1);
+  roi &= cv::Rect(0, 0, inside.cols, inside.rows);
+  if (!roi.contains(a) || !roi.contains(b) || !(inside.at<float>(a) > 0) ||
+      !(inside.at<float>(b) > 0) || !(depth > 0))
+    return {};
+  const int w = roi.width, n = roi.width * roi.height;
+  const auto index = [&](cv::Point p) { return (p.y - roi.y) * w + (p.x - roi.x); };
+  const auto point = [&](int i) { return cv::Point(roi.x + i % w, roi.y + i / w); };
+  std::vector<float> cost(static_cast<size_t>(n), std::numeric_limits<float>::infinity());
+  std::vector<int> from(static_cast<size_t>(n), -1);
+  using Item = std::pair<float, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  const int start = index(a), goal = index(b);
+  cost[start] = 0;
+  open.push({0.f, start});
+  constexpr float kDiagonal = 1.41421356f;
+  while (!open.empty()) {
+    const auto [c, i] = open.top();
+    open.pop();
+    if (c > cost[i]) continue;
+    if (i == goal) break;
+    const cv::Point p = point(i);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (dx == 0 && dy == 0) continue;
+        const cv::Point q(p.x + dx, p.y + dy);
+        if (!roi.contains(q)) continue;
+        const float d = inside.at<float>(q);
+        if (!(d > 0)) continue;
+        const float step = (dx && dy ? kDiagonal : 1.f) *
+                           (1 + centre_weight * (1 - std::min(d, depth) / depth));
+        const int j = index(q);
+        if (c + step < cost[j]) {
+          cost[j] = c + step;
+          from[j] = i;
+          open.push({cost[j], j});
+        }
+      }
+  }
+  if (start != goal && from[goal] < 0) return {};
+  std::vector<cv::Point> out;
+  for (int i = goal; i != -1; i = i == start ? -1 : from[i]) out.push_back(point(i));
+  std::reverse(out.begin(), out.end());
   return out;
 }
 

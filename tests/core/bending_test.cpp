@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "mbest/core/detector.h"
+#include "mbest/core/geometry.h"
 #include "mbest/core/prune.h"
 #include "scenes.h"
 
@@ -25,6 +26,61 @@ BranchTangent exit_at(double deg, double dist = 12) {
   t.direction = dir(deg);
   t.point = t.direction * static_cast<float>(dist);
   return t;
+}
+
+Passage passage_along(const std::vector<cv::Point>& path, float radius) {
+  Passage p;
+  p.path = path;
+  p.radius.assign(path.size(), radius);
+  return p;
+}
+
+TEST(Bending, APassageCuttingOverTheBackgroundIsRoutedAlongTheMask) {
+  // A U: two arms joined at the bottom. A curve from the top of one arm to the top of the
+  // other cuts straight over the gap between them; one down an arm stays on the mask.
+  cv::Mat mask = cv::Mat::zeros(120, 100, CV_8UC1);
+  mask(cv::Rect(10, 10, 10, 100)).setTo(255);
+  mask(cv::Rect(80, 10, 10, 100)).setTo(255);
+  mask(cv::Rect(10, 100, 80, 10)).setTo(255);
+  std::vector<cv::Point> across, down;
+  for (int x = 15; x <= 85; ++x) across.emplace_back(x, 15);
+  for (int y = 15; y <= 60; ++y) down.emplace_back(15, y);
+  std::vector<Passage> passages = {passage_along(across, 5), passage_along(down, 5)};
+  passages[0].radius.back() = 4;
+  EXPECT_EQ(keep_passages_on_mask(passages, mask, 5, 2), 1);
+  const Passage& routed = passages[0];
+  EXPECT_EQ(routed.path.front(), cv::Point(15, 15));
+  EXPECT_EQ(routed.path.back(), cv::Point(85, 15));
+  ASSERT_EQ(routed.radius.size(), routed.path.size());
+  EXPECT_FLOAT_EQ(routed.radius.front(), 5);
+  EXPECT_FLOAT_EQ(routed.radius.back(), 4);
+  for (size_t k = 0; k < routed.path.size(); ++k) {
+    EXPECT_NE(mask.at<uchar>(routed.path[k]), 0) << routed.path[k];
+    if (k > 0) {
+      EXPECT_TRUE(eight_adjacent(routed.path[k - 1], routed.path[k]));
+    }
+  }
+  EXPECT_GT(routed.path.size(), 150u);  // down, across the bottom and up again
+  EXPECT_EQ(passages[1].path, down);
+}
+
+TEST(Bending, APassageMayShaveTheMasksEdgeButNotLeaveTheImage) {
+  cv::Mat mask = cv::Mat::zeros(40, 100, CV_8UC1);
+  mask(cv::Rect(0, 0, 100, 10)).setTo(255);
+  // Off the mask for two pixels in a row: kept. Off for three: routed.
+  std::vector<cv::Point> shaving, off;
+  for (int x = 10; x <= 90; ++x) shaving.emplace_back(x, x >= 50 && x < 52 ? 11 : 5);
+  for (int x = 10; x <= 90; ++x) off.emplace_back(x, x >= 50 && x < 53 ? 11 : 5);
+  std::vector<Passage> passages = {passage_along(shaving, 3), passage_along(off, 3)};
+  EXPECT_EQ(keep_passages_on_mask(passages, mask, 3, 2), 1);
+  EXPECT_EQ(passages[0].path, shaving);
+  for (const cv::Point& p : passages[1].path) EXPECT_NE(mask.at<uchar>(p), 0) << p;
+  // A curve bulging past the image's top edge, though the mask runs along it.
+  std::vector<cv::Point> outside;
+  for (int x = 10; x <= 90; ++x) outside.emplace_back(x, x >= 40 && x < 60 ? -1 : 1);
+  passages = {passage_along(outside, 3)};
+  EXPECT_EQ(keep_passages_on_mask(passages, mask, 3, 2), 1);
+  for (const cv::Point& p : passages[0].path) EXPECT_GE(p.y, 0);
 }
 
 TEST(Bending, DiscreteCurvatureIsTwiceTheTangentOfHalfTheTurn) {

@@ -72,13 +72,15 @@ Verdict check(const SceneSpec& spec);
 //     kMaxEquivarianceDisagreement of the mask pixels.
 //   any_scene: no error or exception; labels CV_16UC1 of the mask's size, values in
 //     0..#DLOs, none outside the mask; every centerline non-empty, 8-connected (consecutive
-//     pixels are distinct 8-neighbours; a ring also across its seam), labelled where on the
-//     mask; one radius per pixel. A pixel may recur: a self-crossing passes it twice.
+//     pixels are distinct 8-neighbours; a ring also across its seam), inside the image and
+//     no further than kMaxCenterlineOffMask px from the mask, labelled where on the mask;
+//     one radius per pixel. A pixel may recur: a self-crossing passes it twice.
 //   ring: one closed rod fully inside the picture -> one closed DLO.
 //   triple: three rods through one point (and no crossing under 20 deg elsewhere) -> three
 //     DLOs, pairing correct at every GT crossing the metric can assess.
 constexpr double kMinRodDice = 0.97;
 constexpr double kArcJitterWidths = 0.5;
 constexpr double kMaxEquivarianceDisagreement = 0.01;
+constexpr float kMaxCenterlineOffMask = 2;
 
 }  // namespace mbest::properties

@@ -226,4 +226,15 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
                                     double unlike_energy = std::numeric_limits<double>::infinity(),
                                     double unlike_fold_energy = std::numeric_limits<double>::infinity());
 
+// Keeps each passage's path on the mask. build_passages draws a passage as a Hermite curve
+// between its two exits, which is the strand's course through an ordinary crossing; but
+// across a long region (Y-pairs and merged regions joined by links up to wide_radii) the
+// curve can cut over the background, or leave the image at its border, leaving the DLO's
+// centerline and labels off its pixels. Where the curve runs off the mask for more than
+// `max_off` px in a row, or leaves the image, its path becomes the cheapest chain of mask
+// pixels between the two exits that keeps to the middle of the strands (path_through_mask;
+// the radii are interpolated along it). Returns how many paths were replaced.
+int keep_passages_on_mask(std::vector<Passage>& passages, const cv::Mat& mask, float r,
+                          float max_off);
+
 }  // namespace mbest

@@ -16,6 +16,15 @@ void append_connected(std::vector<cv::Point>& line, cv::Point p);
 // tangents scaled by the chord length, rasterised as an 8-connected chain from a to b.
 std::vector<cv::Point> hermite_path(cv::Point2f a, cv::Point2f ta, cv::Point2f b, cv::Point2f tb);
 
+// The cheapest 8-connected chain of mask pixels from `a` to `b`, both ends included, searched
+// inside `roi` (clipped to the image). `inside` is the mask's distance transform (CV_32FC1,
+// each mask pixel's distance to the background, 0 off the mask): a step costs its length
+// times 1 + centre_weight * (1 - min(inside, depth) / depth), so the chain keeps to the
+// middle of the strands it runs along rather than hugging their edges. Empty when `a` or `b`
+// lies off the mask or outside `roi`, or no chain joins them there.
+std::vector<cv::Point> path_through_mask(const cv::Mat& inside, cv::Point a, cv::Point b,
+                                         cv::Rect roi, float depth, float centre_weight);
+
 // `v` scaled to length 1; the zero vector stays zero.
 inline cv::Point2f unit(cv::Point2f v) {
   const float n = std::hypot(v.x, v.y);
