@@ -8,6 +8,8 @@
 #include <queue>
 #include <utility>
 
+#include <opencv2/imgproc.hpp>
+
 namespace mbest {
 
 void append_connected(std::vector<cv::Point>& line, cv::Point p) {
@@ -52,13 +54,21 @@ std::vector<cv::Point> hermite_path(cv::Point2f a, cv::Point2f ta, cv::Point2f b
 }
 
 std::vector<cv::Point> path_through_mask(const cv::Mat& inside, cv::Point a, cv::Point b,
-                                         cv::Rect roi, float depth, float centre_weight) {
+                                         cv::Rect roi, float depth, float centre_weight,
+                                         const std::vector<cv::Point>* guide, float guide_weight) {
   CV_Assert(inside.type() == CV_32FC1);
   roi &= cv::Rect(0, 0, inside.cols, inside.rows);
   if (!roi.contains(a) || !roi.contains(b) || !(inside.at<float>(a) > 0) ||
       !(inside.at<float>(b) > 0) || !(depth > 0))
     return {};
   const int w = roi.width, n = roi.width * roi.height;
+  cv::Mat off_guide;  // per ROI pixel, its distance to the guide
+  if (guide && guide_weight > 0) {
+    cv::Mat g(roi.size(), CV_8UC1, cv::Scalar(255));
+    for (const cv::Point& p : *guide)
+      if (roi.contains(p)) g.at<uchar>(p - roi.tl()) = 0;
+    cv::distanceTransform(g, off_guide, cv::DIST_L2, cv::DIST_MASK_3);
+  }
   const auto index = [&](cv::Point p) { return (p.y - roi.y) * w + (p.x - roi.x); };
   const auto point = [&](int i) { return cv::Point(roi.x + i % w, roi.y + i / w); };
   std::vector<float> cost(static_cast<size_t>(n), std::numeric_limits<float>::infinity());
@@ -82,8 +92,10 @@ std::vector<cv::Point> path_through_mask(const cv::Mat& inside, cv::Point a, cv:
         if (!roi.contains(q)) continue;
         const float d = inside.at<float>(q);
         if (!(d > 0)) continue;
-        const float step = (dx && dy ? kDiagonal : 1.f) *
-                           (1 + centre_weight * (1 - std::min(d, depth) / depth));
+        float weight = 1 + centre_weight * (1 - std::min(d, depth) / depth);
+        if (!off_guide.empty())
+          weight += guide_weight * std::min(off_guide.at<float>(q - roi.tl()), 2 * depth) / depth;
+        const float step = (dx && dy ? kDiagonal : 1.f) * weight;
         const int j = index(q);
         if (c + step < cost[j]) {
           cost[j] = c + step;

@@ -56,6 +56,30 @@ TEST(Geometry, PathThroughMaskKeepsToTheMiddleOfAWideBand) {
   expect_chain_on_mask(middle, mask);
 }
 
+TEST(Geometry, PathThroughMaskKeepsNearItsGuideWhereTheMaskAllows) {
+  // A frame round a hole: from the middle of its left side to the middle of its right side,
+  // over the top or under the bottom, both as long. A guide over the top (a curve cutting
+  // over the background above the hole) picks the top; one under the bottom, the bottom.
+  cv::Mat mask = cv::Mat::zeros(100, 100, CV_8UC1);
+  mask(cv::Rect(10, 10, 80, 80)).setTo(255);
+  mask(cv::Rect(20, 20, 60, 60)).setTo(0);
+  const cv::Mat inside = inside_of(mask);
+  const cv::Rect image(0, 0, 100, 100);
+  for (const int side : {-1, 1}) {
+    std::vector<cv::Point> guide;
+    for (int x = 15; x <= 85; ++x) guide.emplace_back(x, 50 + side * 25);
+    const std::vector<cv::Point> path =
+        path_through_mask(inside, {15, 50}, {85, 50}, image, 5, 1, &guide, 0.25f);
+    ASSERT_FALSE(path.empty());
+    expect_chain_on_mask(path, mask);
+    for (const cv::Point& p : path) {
+      if (p.x == 50) {
+        EXPECT_EQ(p.y < 50 ? -1 : 1, side) << "went round the other side";
+      }
+    }
+  }
+}
+
 TEST(Geometry, PathThroughMaskIsEmptyWhenNoChainJoinsTheEnds) {
   cv::Mat mask = cv::Mat::zeros(50, 100, CV_8UC1);
   mask(cv::Rect(5, 20, 30, 10)).setTo(255);

@@ -232,8 +232,9 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
 // curve can cut over the background, or leave the image at its border, leaving the DLO's
 // centerline and labels off its pixels. Where the curve runs off the mask for more than
 // `max_off` px in a row, or leaves the image, its path becomes the cheapest chain of mask
-// pixels between the two exits that keeps to the middle of the strands (path_through_mask;
-// the radii are interpolated along it). Returns how many paths were replaced.
+// pixels between the two exits that keeps to the middle of the strands and, where the mask
+// allows, near the curve (path_through_mask; the radii are interpolated along it). Returns
+// how many paths were replaced.
 int keep_passages_on_mask(std::vector<Passage>& passages, const cv::Mat& mask, float r,
                           float max_off);
 
