@@ -524,18 +524,16 @@ int keep_passages_on_mask(std::vector<Passage>& passages, const cv::Mat& mask, f
     }
     return false;
   };
-  cv::Mat inside;  // the mask's distance transform, made when a first path needs it
   int replaced = 0;
   for (Passage& p : passages) {
     if (p.path.size() < 2 || !runs_off(p.path)) continue;
-    if (inside.empty()) cv::distanceTransform(mask, inside, cv::DIST_L2, cv::DIST_MASK_3);
     const cv::Point a = p.path.front(), b = p.path.back();
     const int margin = static_cast<int>(std::ceil(std::max(16.f, 8 * r)));
     cv::Rect near = cv::boundingRect(std::vector<cv::Point>{a, b});
     near = cv::Rect(near.x - margin, near.y - margin, near.width + 2 * margin, near.height + 2 * margin);
     std::vector<cv::Point> path =
-        path_through_mask(inside, a, b, near, r, kCentreWeight, &p.path, kCurveWeight);
-    if (path.empty()) path = path_through_mask(inside, a, b, image, r, kCentreWeight, &p.path, kCurveWeight);
+        path_through_mask(mask, a, b, near, r, kCentreWeight, &p.path, kCurveWeight);
+    if (path.empty()) path = path_through_mask(mask, a, b, image, r, kCentreWeight, &p.path, kCurveWeight);
     if (path.size() < 2) continue;
     const float ra = p.radius.front(), rb = p.radius.back();
     p.path = std::move(path);

@@ -16,16 +16,16 @@ void append_connected(std::vector<cv::Point>& line, cv::Point p);
 // tangents scaled by the chord length, rasterised as an 8-connected chain from a to b.
 std::vector<cv::Point> hermite_path(cv::Point2f a, cv::Point2f ta, cv::Point2f b, cv::Point2f tb);
 
-// The cheapest 8-connected chain of mask pixels from `a` to `b`, both ends included, searched
-// inside `roi` (clipped to the image). `inside` is the mask's distance transform (CV_32FC1,
-// each mask pixel's distance to the background, 0 off the mask): a step costs its length
-// times 1 + centre_weight * (1 - min(inside, depth) / depth), so the chain keeps to the
-// middle of the strands it runs along rather than hugging their edges. With a `guide` (a
-// chain of pixels, e.g. the curve the path replaces) and guide_weight > 0, a step costs
-// guide_weight * min(g, 2 * depth) / depth times its length more, g being the pixel's
-// distance to the guide, so the chain keeps near the guide where the mask lets it. Empty
-// when `a` or `b` lies off the mask or outside `roi`, or no chain joins them there.
-std::vector<cv::Point> path_through_mask(const cv::Mat& inside, cv::Point a, cv::Point b,
+// The cheapest 8-connected chain of pixels of `mask` (CV_8UC1, non-zero = on) from `a` to
+// `b`, both ends included, searched inside `roi` (clipped to the image). A step costs its
+// length times 1 + centre_weight * (1 - min(inside, depth) / depth), `inside` being the
+// pixel's distance to the background, so the chain keeps to the middle of the strands it
+// runs along rather than hugging their edges. With a `guide` (a chain of pixels, e.g. the
+// curve the path replaces) and guide_weight > 0, a step costs guide_weight *
+// min(g, 2 * depth) / depth times its length more, g being the pixel's distance to the
+// guide, so the chain keeps near the guide where the mask lets it. Empty when `a` or `b`
+// lies off the mask or outside `roi`, or no chain joins them there.
+std::vector<cv::Point> path_through_mask(const cv::Mat& mask, cv::Point a, cv::Point b,
                                          cv::Rect roi, float depth, float centre_weight,
                                          const std::vector<cv::Point>* guide = nullptr,
                                          float guide_weight = 0);
