@@ -348,30 +348,13 @@ namespace {
 
 // One s3 image: rods 1 and 2 found whole (matched D 0.99 and exactly 0.95), rod 3 split (0.6).
 Evaluation failures_by_cause() {
-  Evaluation e;
-  e.dataset.synthetic = true;
-  e.dataset.tiers = {"s3"};
-  ImageResult r;
-  r.item.tier = "s3";
-  r.item.stem = "000000";
-  r.rods = {{1, 8, 1, 1, 0.99}, {2, 8, 1, 2, 0.95}, {3, 8, 1, 3, 0.6}};
-  const auto crossing = [](int a, int b, double angle, bool assessed, bool correct) {
-    CrossingResolution c;
-    c.rod_a = a;
-    c.rod_b = b;
-    c.angle_deg = angle;
-    c.pairing_assessed = assessed;
-    c.pairing_correct = correct;
-    return c;
-  };
-  r.crossings = {crossing(1, 2, 30, true, false),   // local, 20-45
-                 crossing(1, 3, 30, true, false),   // rod 3 split, 20-45
-                 crossing(3, 3, 60, true, false),   // self-crossing of the split rod, 45-90
-                 crossing(2, 2, 50, true, false),   // self-crossing of a whole rod, 45-90
-                 crossing(1, 2, 15, true, true),    // right
-                 crossing(1, 3, 15, false, false)};  // not assessed
-  e.images.push_back(r);
-  return e;
+  return one_scored_image({{1, 0.99}, {2, 0.95}, {3, 0.6}},
+                          {scored_crossing(1, 2, 30, true, false),    // local, 20-45
+                           scored_crossing(1, 3, 30, true, false),    // rod 3 split, 20-45
+                           scored_crossing(3, 3, 60, true, false),    // self-crossing of the split rod, 45-90
+                           scored_crossing(2, 2, 50, true, false),    // self-crossing of a whole rod, 45-90
+                           scored_crossing(1, 2, 15, true, true),     // right
+                           scored_crossing(1, 3, 15, false, false)});  // not assessed
 }
 
 TEST(Summary, APairingFailureIsLocalOnlyWhenEveryRodOfTheCrossingIsFoundWhole) {

@@ -179,23 +179,9 @@ TEST(Report, SyntheticReportHasCrossingTablesAndBins) {
 
 TEST(Report, PairingFailuresAreCountedByCauseAndMarkedOnEachCrossing) {
   // Two failures at 20-45 degrees, one local and one where a rod (DICE 0.6) is split.
-  Evaluation e;
-  e.dataset.synthetic = true;
-  e.dataset.tiers = {"s3"};
-  ImageResult r;
-  r.item.tier = "s3";
-  r.item.stem = "000000";
-  r.item.annotation = "s3/annotations/000000.json";
-  r.rods = {{1, 8, 1, 1, 0.99}, {2, 8, 1, 2, 0.98}, {3, 8, 1, 3, 0.6}};
-  for (const int other : {2, 3}) {
-    CrossingResolution c;
-    c.rod_a = 1;
-    c.rod_b = other;
-    c.angle_deg = 30;
-    c.pairing_assessed = true;
-    r.crossings.push_back(c);
-  }
-  e.images.push_back(r);
+  const Evaluation e = one_scored_image({{1, 0.99}, {2, 0.98}, {3, 0.6}},
+                                        {scored_crossing(1, 2, 30, true, false),
+                                         scored_crossing(1, 3, 30, true, false)});
   const Summary s = summarise(e);
   const std::string md = report_markdown(e, s, {});
   EXPECT_NE(md.find("## Pairing failures by cause"), std::string::npos) << md;

@@ -10,6 +10,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "mbest/validate/evaluation.h"
+
 namespace mbest::validate::testing {
 
 namespace fs = std::filesystem;
@@ -110,6 +112,36 @@ inline cv::Mat add_synth_scene(const fs::path& root, const std::string& split,
   EXPECT_TRUE(synth::write_annotation(scene, (split_dir / "annotations" / (stem + ".json")).string()).ok());
   if (out) *out = scene;
   return labels;
+}
+
+// A scored crossing of rods a and b (a == b: a self-crossing), as crossing_resolution
+// would leave it.
+inline CrossingResolution scored_crossing(int a, int b, double angle_deg, bool assessed,
+                                          bool correct) {
+  CrossingResolution c;
+  c.rod_a = a;
+  c.rod_b = b;
+  c.angle_deg = angle_deg;
+  c.pairing_assessed = assessed;
+  c.pairing_correct = correct;
+  return c;
+}
+
+// An evaluation of one synthetic image of tier s3, already scored: its rods (id and matched
+// DICE) and crossings, for what summaries and reports make of them.
+inline Evaluation one_scored_image(const std::vector<std::pair<int, double>>& rod_dice,
+                                   std::vector<CrossingResolution> crossings) {
+  Evaluation e;
+  e.dataset.synthetic = true;
+  e.dataset.tiers = {"s3"};
+  ImageResult r;
+  r.item.tier = "s3";
+  r.item.stem = "000000";
+  r.item.annotation = "s3/annotations/000000.json";
+  for (const auto& [id, dice] : rod_dice) r.rods.push_back({id, 8, 1, id, dice});
+  r.crossings = std::move(crossings);
+  e.images.push_back(std::move(r));
+  return e;
 }
 
 }  // namespace mbest::validate::testing
