@@ -5,8 +5,6 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <iostream>
 #include <map>
 #include <string>
@@ -104,8 +102,7 @@ Result<nlohmann::json> process(const Input& in, const Options& o, bool mask_is_f
   if (!image) return image.error();
   cv::Mat mask;
   if (!o.mask_sibling.empty()) {
-    const fs::path mp = in.path.parent_path().parent_path() / o.mask_sibling / (in.path.stem().string() + ".png");
-    Result<cv::Mat> m = read_mask(mp.string(), image.value().size());
+    Result<cv::Mat> m = read_mask(sibling_mask_path(in.path.string(), o.mask_sibling), image.value().size());
     if (!m) return m.error();
     mask = std::move(m).value();
   } else if (o.mask.empty()) {
@@ -138,16 +135,14 @@ Result<nlohmann::json> process(const Input& in, const Options& o, bool mask_is_f
 
 int run(Options o) {
   if (!o.config.empty()) {
-    std::ifstream in(o.config);
-    if (!in) {
-      std::cerr << "mbest detect: --config " << o.config << ": cannot read the file\n";
+    Result<std::string> text = json_option_text("--config", o.config);
+    if (!text) {
+      std::cerr << "mbest detect: " << text.error().message << "\n";
       return 2;
     }
-    std::stringstream text;
-    text << in.rdbuf();
-    Result<DetectorConfig> c = parse_detector_config(text.str());
+    Result<DetectorConfig> c = parse_detector_config(text.value());
     if (!c) {
-      std::cerr << "mbest detect: " << o.config << ": " << c.error().message << "\n";
+      std::cerr << "mbest detect: --config " << o.config << ": " << c.error().message << "\n";
       return 2;
     }
     o.detector = c.value();
@@ -264,7 +259,7 @@ void add_detect_command(CLI::App& app, int* exit_code) {
                   "a/images/x.jpg is a/NAME/x.png (e.g. `semantic` in `mbest synth` output)")
       ->excludes("--mask");
   cmd->add_option("--config", opts->config,
-                  "JSON file of detector constants, e.g. {\"fit_radii\": 4} (lengths are in units of the "
+                  "Detector constants: a JSON file, or an inline object such as '{\"fit_radii\": 4}' (lengths in units of the "
                   "widest DLO's radius); every field is described in DetectorConfig, "
                   "core/include/mbest/core/detector.h");
   cmd->add_option("--out", opts->out, "Output folder (created if missing)")->capture_default_str();

@@ -1,4 +1,5 @@
-// `mbest eval DATASET (--pred DIR | --run) [--report DIR] [--json] [gates]`:
+// `mbest eval DATASET (--pred DIR | --run [--mask-sibling NAME | --colour-filter] [--config C])
+//  [--report DIR] [--json] [gates]`:
 // scores predictions against a data set's ground truth and prints a table per tier.
 // Exit codes: 0 success, 1 bad input, 2 a tier misses a gate (--min-dice, --max-below-95,
 // --max-count-errors).
@@ -13,6 +14,8 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "io.h"
+#include "mbest/core/detector.h"
 #include "mbest/validate/dataset.h"
 #include "mbest/validate/evaluation.h"
 #include "mbest/validate/report.h"
@@ -26,6 +29,9 @@ struct EvalArgs {
   std::string dataset;
   std::string pred;
   bool run = false;
+  std::string mask_sibling;  // with --run; empty: auto
+  bool colour_filter = false;
+  std::string config;
   std::string report;
   bool json = false;
   double min_dice = -1;
@@ -37,6 +43,9 @@ struct EvalArgs {
 std::string command_line(const EvalArgs& a) {
   std::ostringstream out;
   out << "mbest eval " << a.dataset << (a.run ? " --run" : " --pred " + a.pred);
+  if (!a.mask_sibling.empty()) out << " --mask-sibling " << a.mask_sibling;
+  if (a.colour_filter) out << " --colour-filter";
+  if (!a.config.empty()) out << " --config '" << a.config << "'";
   if (!a.report.empty()) out << " --report " << a.report;
   if (a.json) out << " --json";
   if (a.min_dice >= 0) out << " --min-dice " << a.min_dice;
@@ -80,6 +89,31 @@ int run_eval(const EvalArgs& a) {
   v::EvalOptions options;
   options.pred_dir = a.pred;
   options.run = a.run;
+  if (a.run && !a.colour_filter) {
+    // Synthetic scenes carry their exact mask in semantic/; the colour filter is made for
+    // coloured DLOs on a dark background and fails on the generator's textured ones.
+    const std::string name = a.mask_sibling.empty() ? "semantic" : a.mask_sibling;
+    const std::string missing = v::missing_sibling_mask(dataset.value(), name);
+    if (missing.empty()) {
+      options.mask_sibling = name;
+    } else if (!a.mask_sibling.empty()) {
+      std::cerr << "mbest eval: --mask-sibling " << name << ": " << missing << ": no such mask\n";
+      return kEvalBadInput;
+    }
+  }
+  if (!a.config.empty()) {
+    Result<std::string> text = json_option_text("--config", a.config);
+    if (!text) {
+      std::cerr << "mbest eval: " << text.error().message << "\n";
+      return kEvalBadInput;
+    }
+    Result<DetectorConfig> c = parse_detector_config(text.value());
+    if (!c) {
+      std::cerr << "mbest eval: --config " << a.config << ": " << c.error().message << "\n";
+      return kEvalBadInput;
+    }
+    options.detector = c.value();
+  }
   options.threads = a.threads;
   options.keep_worst = a.report.empty() ? 0 : a.worst;
   Result<v::Evaluation> evaluation = v::evaluate(dataset.value(), options, progress_printer(a.run));
@@ -99,10 +133,12 @@ int run_eval(const EvalArgs& a) {
   if (a.json) {
     std::cout << v::report_json(e, summary, info);
   } else {
+    const std::string masks =
+        options.mask_sibling.empty() ? "the colour filter" : options.mask_sibling + "/";
+    const std::string source = a.run ? "computed with --run, masks from " + masks : "from " + a.pred;
     std::printf("mbest eval %s: %zu images (%s layout), predictions %s, %.2f s\n\n%s",
                 e.dataset.root.c_str(), e.images.size(),
-                e.dataset.synthetic ? "synth" : "mbest-real",
-                a.run ? "computed with --run" : ("from " + a.pred).c_str(), e.seconds,
+                e.dataset.synthetic ? "synth" : "mbest-real", source.c_str(), e.seconds,
                 v::tier_table(e, summary).c_str());
   }
   if (!a.report.empty()) {
@@ -150,8 +186,25 @@ void add_eval_command(CLI::App& app, int* exit_code) {
       ->required();
   CLI::Option* pred =
       cmd->add_option("--pred", a->pred, "predictions: the folder of `mbest detect DATASET --out DIR`");
-  CLI::Option* run = cmd->add_flag("--run", a->run, "compute predictions now (colour_filter -> detect)");
+  CLI::Option* run = cmd->add_flag(
+      "--run", a->run,
+      "compute predictions now: mask -> detect; the mask is the image's in the sibling folder "
+      "semantic/ when every image has one (the synth layout), else the colour filter's");
   pred->excludes(run);
+  CLI::Option* sibling = cmd->add_option(
+      "--mask-sibling", a->mask_sibling,
+      "with --run, take each mask from this sibling folder of the image's (a/images/x.jpg -> "
+      "a/NAME/x.png); every image must have one");
+  sibling->needs(run);
+  cmd->add_flag("--colour-filter", a->colour_filter,
+                "with --run, make every mask with the colour filter (coloured DLOs on a dark "
+                "background), even where a semantic/ folder exists")
+      ->needs(run)
+      ->excludes(sibling);
+  cmd->add_option("--config", a->config,
+                  "with --run, detector constants: a JSON file, or an inline object such as "
+                  "'{\"epsilon_radii\": 12}' (fields of DetectorConfig)")
+      ->needs(run);
   cmd->add_option("--report", a->report, "write report.json, report.md and report.html into DIR");
   cmd->add_flag("--json", a->json, "print report.json to stdout instead of the table");
   cmd->add_option("--min-dice", a->min_dice,

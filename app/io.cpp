@@ -2,6 +2,8 @@
 
 #include <csignal>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <system_error>
 
 namespace mbest::app {
@@ -16,6 +18,18 @@ const std::atomic<bool>& catch_interrupts() {
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
   return g_interrupted;
+}
+
+Result<std::string> json_option_text(const std::string& option, const std::string& value) {
+  const size_t first = value.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && value[first] == '{') return value;
+  std::ifstream in(value);
+  if (!in)
+    return Error{option + " " + value + ": cannot read the file (give a JSON file, or an "
+                 "inline JSON object: text starting with '{')"};
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 Status make_dirs(const std::string& dir) {

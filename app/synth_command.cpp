@@ -45,9 +45,24 @@ bool parse_shard(const std::string& text, int* index, int* count) {
 
 int run_synth(const SynthArgs& args) {
   synth::DatasetOptions options;
-  Result<synth::SynthConfig> config = args.config.empty()
-                                          ? synth::make_config(args.preset, nlohmann::json(), "--preset")
-                                          : synth::load_config(args.preset, args.config);
+  Result<synth::SynthConfig> config = synth::make_config(args.preset, nlohmann::json(), "--preset");
+  if (!args.config.empty()) {
+    Result<std::string> text = json_option_text("--config", args.config);
+    if (!text) {
+      std::cerr << "mbest synth: " << text.error().message << "\n";
+      return 2;
+    }
+    const bool inline_object = text.value() == args.config;
+    const std::string source = inline_object ? "--config" : args.config;
+    nlohmann::json overrides;
+    try {
+      overrides = nlohmann::json::parse(text.value());
+    } catch (const nlohmann::json::exception& e) {
+      std::cerr << "mbest synth: " << source << ": not valid JSON (" << e.what() << ")\n";
+      return 2;
+    }
+    config = synth::make_config(args.preset, overrides, source);
+  }
   if (!config) {
     std::cerr << "mbest synth: " << config.error().message << "\n";
     return 2;
@@ -94,9 +109,8 @@ void add_synth_command(CLI::App& app, int* exit_code) {
   cmd->add_option("--preset", args->preset, "s1, s2, s3 (like the real dev set), cables, stress")
       ->capture_default_str();
   cmd->add_option("--config", args->config,
-                  "JSON file overriding preset fields, e.g. {\"scene\": {\"rods\": [2, 5]}}; "
-                  "unknown fields and out-of-range values are errors")
-      ->check(CLI::ExistingFile);
+                  "Preset fields to override: a JSON file, or an inline object such as "
+                  "'{\"scene\": {\"rods\": [2, 5]}}'; unknown fields and out-of-range values are errors");
   cmd->add_option("--count", args->count, "number of scenes in the split")->required()->check(CLI::Range(0, 100000000));
   cmd->add_option("--seed", args->seed, "data set seed")->capture_default_str();
   cmd->add_option("--out", args->out, "output folder (OUT/dataset.json, OUT/<split>/...)")->required();

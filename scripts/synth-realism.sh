@@ -9,7 +9,7 @@
 # Env: MBEST_BUILD (default build/; must hold mbest and synth/synth_realism), COUNT (100),
 # SEED (1). Columns: filter DICE = mean per image of the colour filter against labels > 0;
 # "inner" = the same without the pixels within 1 px of the labels' edges; detector DICE =
-# `mbest eval --run` strict (and lenient) matched DICE.
+# `mbest eval --run --colour-filter` strict (and lenient) matched DICE.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${MBEST_BUILD:-$root/build}"
@@ -40,7 +40,7 @@ ln -s "$(cd "$real" && pwd)" "$tmp/real/S3"
 
 row() {  # name images_dir labels_dir eval_dataset
   read -r n filter _pooled inner < <("$realism" "$2" "$3")
-  "$mbest" eval "$4" --run --json 2> /dev/null > "$tmp/eval.json" || true
+  "$mbest" eval "$4" --run --colour-filter --json 2> /dev/null > "$tmp/eval.json" || true
   read -r strict lenient counts < <(jq -r '.tiers[0] | "\(.strict_dice_pct) \(.lenient_dice_pct) \(.count_errors)"' "$tmp/eval.json")
   printf '%-14s %7d %14.2f %14.2f %16.2f %16.2f %13d\n' "$1" "$n" "$filter" "$inner" "$strict" "$lenient" "$counts"
 }

@@ -37,6 +37,11 @@ Result<cv::Mat> read_image(const std::string& path) {
   return img;
 }
 
+std::string sibling_mask_path(const std::string& image_path, const std::string& folder) {
+  const std::filesystem::path image(image_path);
+  return (image.parent_path().parent_path() / folder / (image.stem().string() + ".png")).string();
+}
+
 Result<cv::Mat> read_mask(const std::string& path, cv::Size expected) {
   if (!std::filesystem::exists(path)) return Error{path + ": no such file"};
   cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);

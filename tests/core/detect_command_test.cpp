@@ -145,6 +145,42 @@ TEST_F(DetectCommand, MissingInputAndMissingArgument) {
   EXPECT_NE(no_args.output.find("INPUT"), std::string::npos) << no_args.output;
 }
 
+// --config takes a JSON file or the same text inline, for detect's constants as for synth's
+// preset fields; either way a bad field is named.
+TEST_F(DetectCommand, ConfigIsAFileOrAnInlineObject) {
+  const std::string input = (dir / "data/a/images/good.png").string();
+  std::ofstream(dir / "fit.json") << R"({"fit_radii": 4})";
+  const CommandRun from_file =
+      mbest("detect " + input + " --config " + (dir / "fit.json").string() + " --out " + (dir / "f").string());
+  EXPECT_EQ(from_file.code, 0) << from_file.output;
+  const CommandRun from_text =
+      mbest("detect " + input + " --config ' {\"fit_radii\": 4}' --out " + (dir / "t").string());
+  EXPECT_EQ(from_text.code, 0) << from_text.output;
+  const cv::Mat a = cv::imread((dir / "f/good.labels.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat b = cv::imread((dir / "t/good.labels.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(a.empty());
+  ASSERT_FALSE(b.empty());
+  EXPECT_EQ(cv::countNonZero(a != b), 0);
+  const CommandRun bad = mbest("detect " + input + " --config '{\"fit_radii\": -4}' --out " + (dir / "b").string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("fit_radii"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(dir / "b"));
+
+  const std::string synth = "synth --count 1 --seed 3 --quiet --out ";
+  const CommandRun one_rod = mbest(synth + (dir / "s").string() + R"( --config '{"scene": {"rods": [1, 1]}}')");
+  ASSERT_EQ(one_rod.code, 0) << one_rod.output;
+  std::ifstream annotation(dir / "s/train/annotations/000000.json");
+  ASSERT_TRUE(annotation.good());
+  EXPECT_EQ(nlohmann::json::parse(annotation)["rods"].size(), 1u);
+  const CommandRun typo = mbest(synth + (dir / "u").string() + R"( --config '{"scene": {"rodz": 1}}')");
+  EXPECT_EQ(typo.code, 2);
+  EXPECT_NE(typo.output.find("scene.rodz"), std::string::npos) << typo.output;
+  EXPECT_FALSE(fs::exists(dir / "u"));
+  const CommandRun broken = mbest(synth + (dir / "v").string() + " --config '{\"scene\"'");
+  EXPECT_EQ(broken.code, 2);
+  EXPECT_NE(broken.output.find("not valid JSON"), std::string::npos) << broken.output;
+}
+
 // Whoever catches the mistake (the option parser or the command), an error in the arguments
 // names the option and exits 2, or 1 for eval (whose 2 means a tier missed a gate); --help
 // exits 0.

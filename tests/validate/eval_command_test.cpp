@@ -117,5 +117,72 @@ TEST(EvalCommand, UnreadableLabelFailsWithoutWritingAReport) {
   EXPECT_FALSE(fs::exists(root / "report"));
 }
 
+// A synth-layout scene on a plain grey picture, where the colour filter (made for coloured
+// DLOs on a dark background) finds nothing, with the generator's mask in semantic/.
+fs::path grey_synth_dataset() {
+  const fs::path root = fresh_dir();
+  const cv::Mat labels = add_synth_scene(root / "data", "test", "000000");
+  write_png(root / "data" / "test" / "images" / "000000.png",
+            cv::Mat(labels.size(), CV_8UC3, cv::Scalar(128, 128, 128)));
+  cv::Mat semantic = cv::Mat::zeros(labels.size(), CV_8UC1);
+  semantic.setTo(255, labels > 0);
+  write_png(root / "data" / "test" / "semantic" / "000000.png", semantic);
+  return root;
+}
+
+double strict_dice_pct(const Outcome& r) {
+  return nlohmann::json::parse(r.out)["all"]["strict_dice_pct"].get<double>();
+}
+
+TEST(EvalCommand, RunTakesTheGeneratorsMasksWhereTheDataSetHasThem) {
+  const fs::path root = grey_synth_dataset();
+  const std::string data = (root / "data").string();
+  const Outcome semantic = mbest("eval " + data + " --run --json");
+  ASSERT_EQ(semantic.code, 0) << semantic.err;
+  EXPECT_EQ(nlohmann::json::parse(semantic.out)["masks"], "semantic/");
+  EXPECT_GT(strict_dice_pct(semantic), 90);
+  const Outcome colour = mbest("eval " + data + " --run --colour-filter --json");
+  ASSERT_EQ(colour.code, 0) << colour.err;
+  EXPECT_EQ(nlohmann::json::parse(colour.out)["masks"], "colour_filter");
+  EXPECT_LT(strict_dice_pct(colour), 10);
+  const Outcome named = mbest("eval " + data + " --run --mask-sibling semantic --json");
+  ASSERT_EQ(named.code, 0) << named.err;
+  EXPECT_EQ(strict_dice_pct(named), strict_dice_pct(semantic));
+
+  // Without a mask for every image, --run falls back to the colour filter; a named folder
+  // must have them all.
+  fs::remove(root / "data" / "test" / "semantic" / "000000.png");
+  const Outcome fallback = mbest("eval " + data + " --run --json");
+  ASSERT_EQ(fallback.code, 0) << fallback.err;
+  EXPECT_EQ(nlohmann::json::parse(fallback.out)["masks"], "colour_filter");
+  const Outcome missing = mbest("eval " + data + " --run --mask-sibling semantic");
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_NE(missing.err.find("semantic/000000.png"), std::string::npos) << missing.err;
+}
+
+TEST(EvalCommand, RunTakesDetectorConstantsInlineOrFromAFile) {
+  const fs::path root = grey_synth_dataset();
+  const std::string data = (root / "data").string();
+  const Outcome inline_ok = mbest("eval " + data + " --run --json --config '{\"epsilon_radii\": 12}'");
+  ASSERT_EQ(inline_ok.code, 0) << inline_ok.err;
+  EXPECT_GT(strict_dice_pct(inline_ok), 90);
+  EXPECT_NE(nlohmann::json::parse(inline_ok.out)["command"].get<std::string>().find("epsilon_radii"),
+            std::string::npos);
+
+  write_text(root / "bad.json", "{\"epsilon_radii\": -1}");
+  const std::vector<std::string> bad_configs = {"'{\"epsilon_radii\": -1}'", (root / "bad.json").string()};
+  for (const std::string& config : bad_configs) {
+    const Outcome bad = mbest("eval " + data + " --run --config " + config);
+    EXPECT_EQ(bad.code, 1) << config;
+    EXPECT_NE(bad.err.find("epsilon_radii"), std::string::npos) << bad.err;
+  }
+  const Outcome unreadable = mbest("eval " + data + " --run --config " + (root / "none.json").string());
+  EXPECT_EQ(unreadable.code, 1);
+  EXPECT_NE(unreadable.err.find("none.json: cannot read the file"), std::string::npos) << unreadable.err;
+  // The options that shape --run make no sense with --pred.
+  for (const char* option : {" --colour-filter", " --mask-sibling semantic", " --config x.json"})
+    EXPECT_EQ(mbest("eval " + data + " --pred " + (root / "pred").string() + option).code, 1) << option;
+}
+
 }  // namespace
 }  // namespace mbest::validate

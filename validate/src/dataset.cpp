@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <system_error>
 
+#include "mbest/core/segmentation.h"
+
 namespace mbest::validate {
 
 namespace fs = std::filesystem;
@@ -115,6 +117,15 @@ Result<Dataset> open_dataset(const std::string& root_arg) {
 PredictionPaths prediction_paths(const DatasetItem& item, const std::string& pred_dir) {
   const fs::path dir = fs::path(pred_dir) / item.relative_dir;
   return {(dir / (item.stem + ".labels.png")).string(), (dir / (item.stem + ".json")).string()};
+}
+
+std::string missing_sibling_mask(const Dataset& dataset, const std::string& name) {
+  for (const DatasetItem& item : dataset.items) {
+    const std::string path = sibling_mask_path(item.image, name);
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return path;
+  }
+  return "";
 }
 
 }  // namespace mbest::validate

@@ -74,20 +74,29 @@ Prediction read_prediction(const DatasetItem& item, const std::string& pred_dir,
   return p;
 }
 
-Result<Prediction> run_detector(const DatasetItem& item) {
+Result<Prediction> run_detector(const DatasetItem& item, const EvalOptions& options) {
   Result<cv::Mat> bgr = read_image(item.image);
   if (!bgr) return bgr.error();
   Prediction p;
   p.source = "(run)";
-  Result<cv::Mat> mask = colour_filter(bgr.value());
-  if (!mask) {
-    p.error = item.image + ": colour filter failed: " + mask.error().message;
-    return p;
+  Result<cv::Mat> mask = Error{"no mask"};
+  if (options.mask_sibling.empty()) {
+    mask = colour_filter(bgr.value());
+    if (!mask) {
+      p.error = item.image + ": colour filter failed: " + mask.error().message;
+      return p;
+    }
+  } else {
+    mask = read_mask(sibling_mask_path(item.image, options.mask_sibling), bgr.value().size());
+    if (!mask) {
+      p.error = mask.error().message;
+      return p;
+    }
   }
   // An exception from the detector is its failure on this image, not the evaluation's.
   Result<Detection> detection = Error{"no result"};
   try {
-    detection = detect(mask.value(), bgr.value());
+    detection = detect(mask.value(), bgr.value(), options.detector);
   } catch (const std::exception& e) {
     detection = Error{std::string("threw ") + e.what()};
   }
@@ -130,7 +139,7 @@ Result<ImageResult> evaluate_item(const DatasetItem& item, const EvalOptions& op
   }
   Prediction pred;
   if (options.run) {
-    Result<Prediction> r = run_detector(item);
+    Result<Prediction> r = run_detector(item, options);
     if (!r) return r.error();
     pred = std::move(r).value();
   } else {

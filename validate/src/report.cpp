@@ -38,8 +38,13 @@ std::string distance(const DistanceSummary& d) {
 
 bool synthetic(const Evaluation& e) { return e.dataset.synthetic; }
 
+// Where --run took each image's mask from.
+std::string run_masks(const Evaluation& e) {
+  return e.options.mask_sibling.empty() ? "colour_filter" : e.options.mask_sibling + "/";
+}
+
 std::string prediction_source(const Evaluation& e) {
-  return e.options.run ? "computed with --run (colour_filter -> detect)" : e.options.pred_dir;
+  return e.options.run ? "computed with --run (" + run_masks(e) + " -> detect)" : e.options.pred_dir;
 }
 
 // ---- Rows shared by the terminal table, Markdown and HTML -------------------------------
@@ -527,6 +532,7 @@ std::string report_json(const Evaluation& e, const Summary& s, const ReportInfo&
             {"dataset", e.dataset.root},
             {"layout", synthetic(e) ? "synth" : "mbest-real"},
             {"predictions", e.options.run ? "run" : e.options.pred_dir},
+            {"masks", e.options.run ? run_masks(e) : "as given to `mbest detect`"},
             {"seconds", e.seconds},
             {"definitions", definitions(e)},
             {"tiers", tiers},

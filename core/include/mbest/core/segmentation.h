@@ -17,6 +17,10 @@ Result<cv::Mat> colour_filter(const cv::Mat& bgr);
 // is `expected` in size when `expected` is not empty. Returns CV_8UC1 0/255.
 Result<cv::Mat> read_mask(const std::string& path, cv::Size expected = cv::Size());
 
+// The mask kept beside an image in a sibling folder: for a/images/x.jpg and `folder`
+// "semantic", a/semantic/x.png (the layout `mbest synth` writes).
+std::string sibling_mask_path(const std::string& image_path, const std::string& folder);
+
 // Reads a colour image (CV_8UC3). Errors name the file.
 Result<cv::Mat> read_image(const std::string& path);
 

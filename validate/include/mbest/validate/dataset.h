@@ -33,6 +33,10 @@ struct Dataset {
 // image without its annotation, no image at all) name the path.
 Result<Dataset> open_dataset(const std::string& root);
 
+// The first image's mask missing from the sibling folder NAME (mbest/core/segmentation.h,
+// sibling_mask_path); empty when every image of `dataset` has one.
+std::string missing_sibling_mask(const Dataset& dataset, const std::string& name);
+
 // Where `mbest detect DATASET --out pred_dir` writes the prediction of `item`: its path
 // relative to DATASET mirrored under pred_dir, e.g. PRED/S1/images/img0.labels.png and
 // PRED/S1/images/img0.json.

@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "mbest/core/detector.h"
 #include "mbest/core/result.h"
 #include "mbest/synth/annotation.h"
 #include "mbest/validate/centerline_error.h"
@@ -21,6 +22,10 @@ namespace mbest::validate {
 struct EvalOptions {
   std::string pred_dir;  // a `mbest detect --out` folder; used when run is false
   bool run = false;      // detect on the fly instead
+  // With run: the mask of DIR/images/x.jpg is DIR/<mask_sibling>/x.png (e.g. "semantic" in
+  // the synth layout); empty: the colour filter (coloured DLOs on a dark background).
+  std::string mask_sibling;
+  DetectorConfig detector;  // with run: the detector's constants
   int threads = 2;       // images scored in parallel
   // Keep the predicted labels of this many lowest-scoring images (for a report's gallery).
   int keep_worst = 0;
