@@ -17,7 +17,7 @@ for seed in "${seeds[@]}"; do
   if ! RC_PARAMS="seed=$seed max_success=$cases" "$build/tests/properties/property_tests" \
       > "$build/property-campaign-$seed.log" 2>&1; then
     failed=1
-    grep -E "^\{|^\[  FAILED|Falsifiable|^[A-Za-z].*(wrong|DICE|DLO|end|disagree)" \
+    grep -E "^\{|^\[  FAILED|Falsifiable|^[A-Za-z].*(wrong|DICE|DLO|end|disagree)|^[0-9].* after (rot|flip)" \
       "$build/property-campaign-$seed.log" || true
   fi
   grep "^\[property\]" "$build/property-campaign-$seed.log"
