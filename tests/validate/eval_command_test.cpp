@@ -148,6 +148,17 @@ TEST(EvalCommand, RunTakesTheGeneratorsMasksWhereTheDataSetHasThem) {
   const Outcome named = mbest("eval " + data + " --run --mask-sibling semantic --json");
   ASSERT_EQ(named.code, 0) << named.err;
   EXPECT_EQ(strict_dice_pct(named), strict_dice_pct(semantic));
+  // The same figures as detecting first with the same masks, then scoring the folder.
+  const std::string pred = (root / "pred").string();
+  ASSERT_EQ(mbest("detect " + data + " --mask-sibling semantic --quiet --out " + pred).code, 0);
+  const Outcome detected = mbest("eval " + data + " --pred " + pred + " --json");
+  ASSERT_EQ(detected.code, 0) << detected.err;
+  const nlohmann::json a = nlohmann::json::parse(semantic.out)["all"];
+  const nlohmann::json b = nlohmann::json::parse(detected.out)["all"];
+  EXPECT_EQ(a["strict_dice_pct"], b["strict_dice_pct"]);
+  EXPECT_EQ(a["count_errors"], b["count_errors"]);
+  EXPECT_EQ(a["crossings"], b["crossings"]);
+  EXPECT_EQ(a["centerline_px"], b["centerline_px"]);
 
   // Without a mask for every image, --run falls back to the colour filter; a named folder
   // must have them all.
