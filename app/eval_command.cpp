@@ -38,6 +38,7 @@ struct EvalArgs {
   int max_below_95 = -1, max_count_errors = -1;  // -1: not checked
   int threads = 2;
   int worst = 8;
+  int failed_crossings = 2;
 };
 
 std::string command_line(const EvalArgs& a) {
@@ -116,6 +117,7 @@ int run_eval(const EvalArgs& a) {
   }
   options.threads = a.threads;
   options.keep_worst = a.report.empty() ? 0 : a.worst;
+  options.keep_failed_crossings = a.report.empty() ? 0 : a.failed_crossings;
   Result<v::Evaluation> evaluation = v::evaluate(dataset.value(), options, progress_printer(a.run));
   if (!evaluation) {
     std::cerr << "mbest eval: " << evaluation.error().message << "\n";
@@ -220,6 +222,11 @@ void add_eval_command(CLI::App& app, int* exit_code) {
       ->check(CLI::Range(1, 64));
   cmd->add_option("--worst", a->worst, "images in the report's gallery")->capture_default_str()
       ->check(CLI::Range(0, 1000));
+  cmd->add_option("--failed-crossings", a->failed_crossings,
+                  "synthetic data: per tier and crossing-angle bin, images whose first crossing "
+                  "paired wrong the report shows close up")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100));
   cmd->callback([a, exit_code] { *exit_code = run_eval(*a); });
 }
 

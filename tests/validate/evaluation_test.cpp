@@ -380,6 +380,66 @@ TEST(Summary, APairingFailureIsLocalOnlyWhenEveryRodOfTheCrossingIsFoundWhole) {
   }
 }
 
+TEST(Summary, TheFailureGalleryTakesTheFirstImagesOfEachTierAndAngle) {
+  Evaluation e = one_scored_image({{1, 0.99}, {2, 0.99}},
+                                  {scored_crossing(1, 2, 30, true, false),
+                                   scored_crossing(1, 2, 60, true, true),
+                                   scored_crossing(1, 2, 35, true, false)});  // same bin: not shown
+  e.dataset.tiers = {"a", "b"};
+  const auto add = [&](const std::string& tier, std::vector<CrossingResolution> crossings) {
+    ImageResult r = e.images[0];
+    r.item.tier = tier;
+    r.crossings = std::move(crossings);
+    e.images.push_back(std::move(r));
+  };
+  e.images[0].item.tier = "a";
+  add("b", {scored_crossing(1, 2, 70, true, false)});                 // image 1
+  add("a", {scored_crossing(1, 2, 15, false, false),                  // not assessed
+            scored_crossing(1, 2, 15, true, false),                   // image 2, 10-20
+            scored_crossing(1, 2, 25, true, false)});                 // image 2, 20-45
+  add("a", {scored_crossing(1, 2, 40, true, false)});                 // third at 20-45
+  const std::vector<FailureView> g = failure_gallery(e, 2);
+  ASSERT_EQ(g.size(), 4u);
+  const auto is = [](const FailureView& v, int image, int crossing, int bin) {
+    return v.image == image && v.crossing == crossing && v.bin == bin;
+  };
+  EXPECT_TRUE(is(g[0], 2, 1, 1));  // tier a, 10-20
+  EXPECT_TRUE(is(g[1], 0, 0, 2));  // tier a, 20-45: images 0 and 2, not 3
+  EXPECT_TRUE(is(g[2], 2, 2, 2));
+  EXPECT_TRUE(is(g[3], 1, 0, 3));  // tier b, 45-90
+  EXPECT_EQ(failure_gallery(e, 1).size(), 3u);
+  EXPECT_TRUE(failure_gallery(e, 0).empty());
+}
+
+// evaluate() keeps the predictions the report's gallery of failed crossings shows, and no
+// more, whatever order its threads finish in.
+TEST(Evaluation, KeepsThePredictionsOfTheFirstFailedCrossings) {
+  const fs::path root = fresh_dir(), pred = root / "pred";
+  for (int i = 0; i < 5; ++i) {
+    const std::string stem = "00000" + std::to_string(i);
+    const cv::Mat gt = add_synth_scene(root / "data", "s2", stem);
+    add_prediction(pred, "s2", stem, i == 0 ? gt : switched_at_the_crossing(gt));
+  }
+  Result<Dataset> d = open_dataset((root / "data").string());
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  for (const int threads : {1, 3}) {
+    EvalOptions o;
+    o.pred_dir = pred.string();
+    o.threads = threads;
+    o.keep_failed_crossings = 2;
+    Result<Evaluation> e = evaluate(d.value(), o);
+    ASSERT_TRUE(e.ok()) << e.error().message;
+    for (int i = 0; i < 5; ++i)
+      EXPECT_EQ(e.value().images[i].kept_prediction.empty(), i != 1 && i != 2)
+          << "image " << i << ", threads " << threads;
+    const std::vector<FailureView> g = failure_gallery(e.value(), 2);
+    ASSERT_EQ(g.size(), 2u);
+    EXPECT_EQ(g[0].image, 1);
+    EXPECT_EQ(g[1].image, 2);
+    EXPECT_EQ(g[0].bin, 3);  // 60 degrees
+  }
+}
+
 TEST(Summary, BinsAreHalfOpenAndTheLastHoldsItsTop) {
   EXPECT_EQ(bin_index(angle_bins(), 0), 0);
   EXPECT_EQ(bin_index(angle_bins(), 9.99), 0);

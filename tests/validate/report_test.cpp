@@ -196,6 +196,45 @@ TEST(Report, PairingFailuresAreCountedByCauseAndMarkedOnEachCrossing) {
   EXPECT_NE(report_html(e, s, {}).find("<h3>Pairing failures by cause"), std::string::npos);
 }
 
+TEST(Report, FailedCrossingsAreListedAndShownCloseUp) {
+  const fs::path root = fresh_dir();
+  for (int i = 0; i < 3; ++i) {
+    const std::string stem = "00000" + std::to_string(i);
+    const cv::Mat gt = add_synth_scene(root / "data", "s2", stem);
+    add_prediction(root / "pred", "s2", stem, i == 0 ? gt : switched_at_the_crossing(gt));
+  }
+  Result<Dataset> d = open_dataset((root / "data").string());
+  EvalOptions o;
+  o.pred_dir = (root / "pred").string();
+  o.keep_failed_crossings = 1;
+  Result<Evaluation> e = evaluate(d.value(), o);
+  ASSERT_TRUE(e.ok());
+  const Summary s = summarise(e.value());
+  const std::string md = report_markdown(e.value(), s, {});
+  EXPECT_NE(md.find("## Failed crossings"), std::string::npos) << md;
+  EXPECT_NE(md.find("| s2 | 45-90 | s2/images/000001 | 0 | 60.0 | 50, 40 | 1, 2 | a rod of the "
+                    "crossing split, merged or missed |"),
+            std::string::npos)
+      << md;
+  EXPECT_EQ(md.find("000002 | 0 | 60.0"), std::string::npos) << md;  // one per tier and bin
+  const std::string html = report_html(e.value(), s, {});
+  const size_t section = html.find("<h2>Failed crossings</h2>");
+  ASSERT_NE(section, std::string::npos);
+  EXPECT_NE(html.find("<h3>s2, 45-90 degrees</h3>", section), std::string::npos);
+  EXPECT_NE(html.find("data:image/jpeg;base64,", section), std::string::npos);
+  EXPECT_NE(html.find("s2/images/000001, crossing 0: 60.0 degrees, rods 1 and 2", section),
+            std::string::npos);
+  const nlohmann::json j = nlohmann::json::parse(report_json(e.value(), s, {}));
+  EXPECT_EQ(j["images"][1]["crossings"][0]["location"], nlohmann::json::array({50.0, 40.0}));
+
+  // Without the option (or on real data) there is no such section.
+  o.keep_failed_crossings = 0;
+  Result<Evaluation> plain = evaluate(d.value(), o);
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(report_markdown(plain.value(), summarise(plain.value()), {}).find("Failed crossings"),
+            std::string::npos);
+}
+
 TEST(Report, RealDataHasNoDetectedCrossings) {
   const Evaluation e = small_evaluation(fresh_dir(), 0);
   const Summary s = summarise(e);

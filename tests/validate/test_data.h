@@ -114,6 +114,16 @@ inline cv::Mat add_synth_scene(const fs::path& root, const std::string& split,
   return labels;
 }
 
+// The prediction of an add_synth_scene scene that switches the strands at its crossing:
+// right of x = 50 each rod carries the other's label.
+inline cv::Mat switched_at_the_crossing(const cv::Mat& gt) {
+  cv::Mat p = gt.clone();
+  const cv::Rect right(51, 0, gt.cols - 51, gt.rows);
+  p(right).setTo(2, gt(right) == 1);
+  p(right).setTo(1, gt(right) == 2);
+  return p;
+}
+
 // A scored crossing of rods a and b (a == b: a self-crossing), as crossing_resolution
 // would leave it.
 inline CrossingResolution scored_crossing(int a, int b, double angle_deg, bool assessed,

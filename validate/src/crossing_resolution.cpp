@@ -165,6 +165,7 @@ std::vector<CrossingResolution> crossing_resolution(const synth::SceneAnnotation
     r.rod_b = c.rod_b;
     r.top = c.top;
     r.angle_deg = c.angle_deg;
+    r.location = c.location;
     const auto ra = rods.find(c.rod_a), rb = rods.find(c.rod_b);
     if (ra == rods.end() || rb == rods.end()) {
       r.note = "crossing names a rod missing from the annotation";
@@ -172,6 +173,7 @@ std::vector<CrossingResolution> crossing_resolution(const synth::SceneAnnotation
       continue;
     }
     const Strand a{ra->second, c.arc_index_a}, b{rb->second, c.arc_index_b};
+    r.width_px = std::max(a.rod->width_px, b.rod->width_px);
     r.complexity = std::max(a.rod->complexity.total_turning_rad,
                             b.rod->complexity.total_turning_rad);
     const auto valid_index = [](const Strand& s) {

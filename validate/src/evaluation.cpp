@@ -1,8 +1,10 @@
 #include "mbest/validate/evaluation.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -11,6 +13,7 @@
 
 #include "mbest/core/detector.h"
 #include "mbest/core/segmentation.h"
+#include "mbest/validate/summary.h"
 #include "prediction_json.h"
 
 namespace mbest::validate {
@@ -233,18 +236,42 @@ Result<Evaluation> evaluate(const Dataset& dataset, const EvalOptions& options,
   std::vector<std::string> errors(total);
   std::atomic<int> next{0};
   std::atomic<bool> failed{false};
-  std::mutex mutex;  // guards results, errors, kept and done
+  std::mutex mutex;  // guards results, errors, kept, first_failures and done
   std::vector<int> kept;  // images whose prediction is kept, at most options.keep_worst
+  // Per (tier, angle bin): the first images with a crossing paired wrong there, at most
+  // options.keep_failed_crossings, whose predictions are kept too (failure_gallery).
+  std::map<std::pair<std::string, int>, std::vector<int>> first_failures;
   int done = 0;
-  const auto keep_if_worst = [&](int i) {
+  const auto still_kept = [&](int i) {
+    if (std::find(kept.begin(), kept.end(), i) != kept.end()) return true;
+    for (const auto& [key, images] : first_failures)
+      if (std::find(images.begin(), images.end(), i) != images.end()) return true;
+    return false;
+  };
+  // Keeps image i's prediction if it is among the worst or the first failures so far, and
+  // drops the predictions that leaves out.
+  const auto keep = [&](int i) {
+    std::vector<int> dropped;
     kept.push_back(i);
-    if (static_cast<int>(kept.size()) <= options.keep_worst) return;
-    // Ties go to the earlier image, as in the report's ranking of the worst.
-    const auto best = std::max_element(kept.begin(), kept.end(), [&](int a, int b) {
-      return std::make_pair(results[a]->dice.strict, a) < std::make_pair(results[b]->dice.strict, b);
-    });
-    results[*best]->kept_prediction = cv::Mat();
-    kept.erase(best);
+    if (static_cast<int>(kept.size()) > options.keep_worst) {
+      // Ties go to the earlier image, as in the report's ranking of the worst.
+      const auto best = std::max_element(kept.begin(), kept.end(), [&](int a, int b) {
+        return std::make_pair(results[a]->dice.strict, a) < std::make_pair(results[b]->dice.strict, b);
+      });
+      dropped.push_back(*best);
+      kept.erase(best);
+    }
+    if (options.keep_failed_crossings > 0) {
+      for (const FailureView& v : failures_by_bin(*results[i], i)) {
+        std::vector<int>& images = first_failures[{results[i]->item.tier, v.bin}];
+        images.insert(std::upper_bound(images.begin(), images.end(), i), i);
+        if (static_cast<int>(images.size()) <= options.keep_failed_crossings) continue;
+        dropped.push_back(images.back());
+        images.pop_back();
+      }
+    }
+    for (const int d : dropped)
+      if (!still_kept(d)) results[d]->kept_prediction = cv::Mat();
   };
   const auto work = [&] {
     for (int i = next++; i < total && !failed; i = next++) {
@@ -257,7 +284,7 @@ Result<Evaluation> evaluate(const Dataset& dataset, const EvalOptions& options,
       std::lock_guard<std::mutex> lock(mutex);
       if (r) {
         results[i] = std::move(r).value();
-        keep_if_worst(i);
+        keep(i);
       } else {
         errors[i] = r.error().message;
         failed = true;

@@ -240,13 +240,13 @@ std::string html_table(const Row& header, const std::vector<Row>& rows) {
   return out.str();
 }
 
-// Under the heading of the detected-crossings table, in report.md and report.html.
-// Under the heading of the pairing-failure table.
+// Under the heading of the pairing-failure table, in report.md and report.html.
 constexpr char kFailureNote[] =
     "Each cell: local failures (every rod of the crossing found whole, matched DICE >= 0.95) + "
     "failures where a rod of the crossing is split, merged or missed (matched DICE < 0.95), a "
     "figure beyond ../shared/docs/metrics.md.";
 
+// Under the heading of the detected-crossings table.
 constexpr char kCrossingListNote[] =
     "The detector's own crossing list matched to the ground truth's crossings, a figure beyond "
     "../shared/docs/metrics.md (see Definitions).";
@@ -308,6 +308,11 @@ json failure_json(PairingFailure f) {
     case PairingFailure::kNone: break;
   }
   return nullptr;
+}
+
+std::string failure_cause_text(PairingFailure f) {
+  return f == PairingFailure::kLocal ? "local (both rods found whole)"
+                                     : "a rod of the crossing split, merged or missed";
 }
 
 json tier_json(const TierSummary& t) {
@@ -402,6 +407,7 @@ json image_json(const ImageResult& r) {
     for (const CrossingResolution& c : r.crossings)
       crossings.push_back({{"index", c.index}, {"rods", {c.rod_a, c.rod_b}}, {"top", c.top},
                            {"angle_deg", c.angle_deg}, {"complexity", c.complexity},
+                           {"location", {c.location.x, c.location.y}},
                            {"labels", {{"a_before", c.a_before}, {"a_after", c.a_after},
                                        {"b_before", c.b_before}, {"b_after", c.b_after},
                                        {"at_crossing", c.at_crossing}}},
@@ -481,6 +487,70 @@ cv::Mat overlay(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat& pred_
   panels.pop_back();
   cv::hconcat(panels, out);
   return out;
+}
+
+// A close view of crossing `c` of image r: the picture, the ground truth and the prediction
+// (coloured as in `overlay`), over a square of 16 widths of the wider rod (at least 64 px)
+// centred on the crossing and clipped to the image, scaled to 180 px high, a ring marking
+// the crossing.
+cv::Mat crossing_view(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat& pred_in,
+                      const CrossingResolution& c) {
+  const cv::Mat gt = labels_16u(gt_in), pred = labels_16u(pred_in);
+  const int half = std::max(32, static_cast<int>(std::lround(8 * c.width_px)));
+  const cv::Rect roi = cv::Rect(cvRound(c.location.x) - half, cvRound(c.location.y) - half,
+                                2 * half, 2 * half) &
+                       cv::Rect(0, 0, gt.cols, gt.rows);
+  if (roi.empty()) return cv::Mat();
+  cv::Mat image = cv::imread(r.item.image, cv::IMREAD_COLOR);
+  if (image.size() != gt.size()) image = cv::Mat(gt.size(), CV_8UC3, cv::Scalar(60, 60, 60));
+  std::map<int, int> gt_index, pred_to_gt;  // label -> GT instance index
+  for (size_t i = 0; i < r.dice.gt_ids.size(); ++i) {
+    gt_index[r.dice.gt_ids[i]] = static_cast<int>(i);
+    if (r.dice.matched_pred[i]) pred_to_gt[r.dice.matched_pred[i]] = static_cast<int>(i);
+  }
+  const cv::Mat picture = image(roi).clone();
+  cv::Mat gt_panel = picture * 0.3, pred_panel = picture * 0.3;
+  for (int y = 0; y < roi.height; ++y) {
+    for (int x = 0; x < roi.width; ++x) {
+      const int g = gt.at<uint16_t>(roi.y + y, roi.x + x), p = pred.at<uint16_t>(roi.y + y, roi.x + x);
+      if (g) gt_panel.at<cv::Vec3b>(y, x) = kPalette[gt_index[g] % 8];
+      if (!p) continue;
+      const auto it = pred_to_gt.find(p);
+      pred_panel.at<cv::Vec3b>(y, x) = it == pred_to_gt.end() ? kUnmatched : kPalette[it->second % 8];
+    }
+  }
+  const double scale = 180.0 / roi.height;
+  const cv::Point centre(cvRound((c.location.x - roi.x) * scale), cvRound((c.location.y - roi.y) * scale));
+  std::vector<cv::Mat> panels;
+  for (const cv::Mat& m : {picture, gt_panel, pred_panel}) {  // headers: no pixel copies
+    cv::Mat big;
+    cv::resize(m, big, cv::Size(), scale, scale, cv::INTER_NEAREST);
+    cv::circle(big, centre, std::max(6, cvRound(c.width_px * scale)), cv::Scalar(255, 255, 255), 1,
+               cv::LINE_AA);
+    panels.push_back(big);
+    panels.push_back(cv::Mat(big.rows, 4, CV_8UC3, cv::Scalar(255, 255, 255)));
+  }
+  panels.pop_back();
+  cv::Mat out;
+  cv::hconcat(panels, out);
+  return out;
+}
+
+std::string failed_crossings_note(const Evaluation& e) {
+  return "Per tier and crossing-angle bin, the first " +
+         std::to_string(e.options.keep_failed_crossings) +
+         " image(s) with a crossing paired wrong in that bin, and their first such crossing "
+         "(all of them are in report.json).";
+}
+
+std::string failure_caption(const ImageResult& r, const CrossingResolution& c) {
+  std::ostringstream out;
+  out << r.item.relative_dir << "/" << r.item.stem << ", crossing " << c.index << ": "
+      << fixed(c.angle_deg, 1) << " degrees, "
+      << (c.rod_a == c.rod_b ? "rod " + std::to_string(c.rod_a) + " over itself"
+                             : "rods " + std::to_string(c.rod_a) + " and " + std::to_string(c.rod_b))
+      << ", " << failure_cause_text(pairing_failure(r, c));
+  return out.str();
 }
 
 std::string chart_img(const std::string& png) {
@@ -586,7 +656,27 @@ std::string report_markdown(const Evaluation& e, const Summary& s, const ReportI
       << "\n## Worst images\n\n";
   std::vector<Row> worst;
   for (int i : worst_images(e, 10)) worst.push_back(worst_row(e.images[i]));
-  out << markdown_table(worst_header(), worst) << "\n## Definitions\n\n" << definitions(e) << "\n";
+  out << markdown_table(worst_header(), worst);
+  if (synthetic(e) && e.options.keep_failed_crossings > 0) {
+    std::vector<Row> rows;
+    for (const FailureView& v : failure_gallery(e, e.options.keep_failed_crossings)) {
+      const ImageResult& r = e.images[v.image];
+      const CrossingResolution& c = r.crossings[v.crossing];
+      rows.push_back({r.item.tier, angle_bins()[v.bin].label, r.item.relative_dir + "/" + r.item.stem,
+                      std::to_string(c.index), fixed(c.angle_deg, 1),
+                      fixed(c.location.x, 0) + ", " + fixed(c.location.y, 0),
+                      c.rod_a == c.rod_b ? std::to_string(c.rod_a)
+                                         : std::to_string(c.rod_a) + ", " + std::to_string(c.rod_b),
+                      failure_cause_text(pairing_failure(r, c))});
+    }
+    out << "\n## Failed crossings\n\n" << failed_crossings_note(e)
+        << " Close views in report.html.\n\n"
+        << (rows.empty() ? std::string("None: every crossing assessed was paired right.\n")
+                         : markdown_table({"tier", "angle bin", "image", "crossing", "angle", "x, y",
+                                           "rods", "cause"},
+                                          rows));
+  }
+  out << "\n## Definitions\n\n" << definitions(e) << "\n";
   return out.str();
 }
 
@@ -668,6 +758,30 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
         << html_escape(w[0]) << "</b>: strict " << w[1] << " %, lenient " << w[2] << " %, n = "
         << w[3] << ", m = " << w[4] << (w[5].empty() ? "" : ". " + html_escape(w[5]))
         << "</figcaption></figure>\n";
+  }
+
+  if (synthetic(e) && e.options.keep_failed_crossings > 0) {
+    out << "<h2>Failed crossings</h2>\n<p>" << html_escape(failed_crossings_note(e))
+        << " Panels: picture | ground truth | prediction (colours as above); the ring marks "
+           "the crossing.</p>\n";
+    const std::vector<FailureView> gallery = failure_gallery(e, e.options.keep_failed_crossings);
+    if (gallery.empty()) out << "<p>None: every crossing assessed was paired right.</p>\n";
+    std::string heading;
+    for (const FailureView& v : gallery) {
+      const ImageResult& r = e.images[v.image];
+      const CrossingResolution& c = r.crossings[v.crossing];
+      const std::string h = r.item.tier + ", " + angle_bins()[v.bin].label + " degrees";
+      if (h != heading) out << "<h3>" << html_escape(heading = h) << "</h3>\n";
+      Result<cv::Mat> gt = read_label_image(r.item.labels);
+      if (!gt || r.kept_prediction.empty()) continue;
+      const cv::Mat view = crossing_view(r, gt.value(), r.kept_prediction, c);
+      if (view.empty()) continue;
+      std::vector<uchar> jpeg;
+      cv::imencode(".jpg", view, jpeg, {cv::IMWRITE_JPEG_QUALITY, 85});
+      out << "<figure><img alt=\"" << html_escape(r.item.stem) << "\" src=\"data:image/jpeg;base64,"
+          << base64(std::string(jpeg.begin(), jpeg.end())) << "\"><figcaption>"
+          << html_escape(failure_caption(r, c)) << "</figcaption></figure>\n";
+    }
   }
 
   std::vector<Row> all;

@@ -198,4 +198,33 @@ std::vector<int> worst_images(const Evaluation& evaluation, int k) {
   return order;
 }
 
+std::vector<FailureView> failures_by_bin(const ImageResult& image, int image_index) {
+  std::vector<FailureView> out;
+  for (size_t k = 0; k < image.crossings.size(); ++k) {
+    const CrossingResolution& c = image.crossings[k];
+    if (pairing_failure(image, c) == PairingFailure::kNone) continue;
+    const int bin = bin_index(angle_bins(), c.angle_deg);
+    if (bin < 0) continue;
+    const bool seen = std::any_of(out.begin(), out.end(), [bin](const FailureView& v) { return v.bin == bin; });
+    if (!seen) out.push_back(FailureView{image_index, static_cast<int>(k), bin});
+  }
+  return out;
+}
+
+std::vector<FailureView> failure_gallery(const Evaluation& evaluation, int per_bin) {
+  std::vector<FailureView> out;
+  if (per_bin <= 0) return out;
+  for (const std::string& tier : evaluation.dataset.tiers) {
+    std::vector<std::vector<FailureView>> bins(angle_bins().size());
+    for (size_t i = 0; i < evaluation.images.size(); ++i) {
+      const ImageResult& r = evaluation.images[i];
+      if (r.item.tier != tier) continue;
+      for (const FailureView& v : failures_by_bin(r, static_cast<int>(i)))
+        if (static_cast<int>(bins[v.bin].size()) < per_bin) bins[v.bin].push_back(v);
+    }
+    for (const std::vector<FailureView>& b : bins) out.insert(out.end(), b.begin(), b.end());
+  }
+  return out;
+}
+
 }  // namespace mbest::validate

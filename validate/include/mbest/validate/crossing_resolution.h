@@ -29,6 +29,8 @@ struct CrossingResolution {
   int index = 0;  // into SceneAnnotation::crossings
   int rod_a = 0, rod_b = 0, top = 0;  // ground-truth rod ids (rod_a == rod_b: self-crossing)
   double angle_deg = 0;
+  cv::Point2d location;   // pixels, from the annotation
+  double width_px = 0;    // the wider rod's width
   double complexity = 0;  // max total_turning_rad of the rods involved
   // Majority predicted label on each strand just before / after the crossing (0 = background
   // or not sampled) and at the crossing itself.

@@ -29,6 +29,9 @@ struct EvalOptions {
   int threads = 2;       // images scored in parallel
   // Keep the predicted labels of this many lowest-scoring images (for a report's gallery).
   int keep_worst = 0;
+  // ... and per tier and crossing-angle bin, of the first this many images with a crossing
+  // paired wrong in that bin (summary.h, failure_gallery: a report's gallery of failures).
+  int keep_failed_crossings = 0;
   CrossingOptions crossing;
 };
 
@@ -55,7 +58,8 @@ struct ImageResult {
   bool has_crossing_list = false;
   CrossingListScore crossing_list;
   double detect_ms = -1;              // with --run: the detector's total time
-  // The predicted labels, kept only for the EvalOptions::keep_worst lowest strict scores.
+  // The predicted labels, kept only for the EvalOptions::keep_worst lowest strict scores and
+  // the images of the gallery of failed crossings (EvalOptions::keep_failed_crossings).
   cv::Mat kept_prediction;
   // E.g. a missing or unreadable prediction JSON on a synthetic scene (metrics skipped).
   std::vector<std::string> warnings;

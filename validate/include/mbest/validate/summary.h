@@ -100,4 +100,18 @@ Summary summarise(const Evaluation& evaluation);
 // earlier image first, the order evaluate() keeps predictions in).
 std::vector<int> worst_images(const Evaluation& evaluation, int k);
 
+// A crossing paired wrong, shown in a report's gallery of failures.
+struct FailureView {
+  int image = 0;     // index into evaluation.images
+  int crossing = 0;  // index into that image's crossings
+  int bin = 0;       // angle_bins() index
+};
+// The angle bins (angle_bins() indices) in which `image` has a crossing paired wrong, and for
+// each the first such crossing.
+std::vector<FailureView> failures_by_bin(const ImageResult& image, int image_index);
+// Per tier and angle bin, the first `per_bin` images (in the data set's order) with a
+// crossing paired wrong in that bin, each with its first such crossing; by tier, bin, image.
+// evaluate() keeps the predictions of these images (EvalOptions::keep_failed_crossings).
+std::vector<FailureView> failure_gallery(const Evaluation& evaluation, int per_bin);
+
 }  // namespace mbest::validate
