@@ -447,6 +447,20 @@ const cv::Vec3b kPalette[] = {{60, 180, 75},  {200, 130, 0}, {48, 130, 245}, {18
 const cv::Vec3b kUnmatched(255, 0, 255), kMissed(40, 40, 230), kWrong(0, 200, 255),
     kSpurious(255, 200, 0), kRight(150, 150, 150);
 
+// Ground-truth label -> GT instance index, and predicted label -> index of the GT instance
+// matched to it: the colours of the gallery's panels.
+struct InstanceIndex {
+  std::map<int, int> gt, pred;
+};
+InstanceIndex instance_index(const ImageResult& r) {
+  InstanceIndex index;
+  for (size_t i = 0; i < r.dice.gt_ids.size(); ++i) {
+    index.gt[r.dice.gt_ids[i]] = static_cast<int>(i);
+    if (r.dice.matched_pred[i]) index.pred[r.dice.matched_pred[i]] = static_cast<int>(i);
+  }
+  return index;
+}
+
 // Three panels: ground truth, prediction (each predicted instance in the colour of the GT
 // instance matched to it; magenta when unmatched), and the disagreement.
 cv::Mat overlay(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat& pred_in) {
@@ -455,17 +469,13 @@ cv::Mat overlay(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat& pred_
   if (image.size() != gt.size()) image = cv::Mat(gt.size(), CV_8UC3, cv::Scalar(60, 60, 60));
   cv::Mat base = image * 0.45;
   cv::Mat gt_panel = base.clone(), pred_panel = base.clone(), err_panel = base * 0.5;
-  std::map<int, int> gt_index, pred_to_gt;  // label -> GT instance index
-  for (size_t i = 0; i < r.dice.gt_ids.size(); ++i) {
-    gt_index[r.dice.gt_ids[i]] = static_cast<int>(i);
-    if (r.dice.matched_pred[i]) pred_to_gt[r.dice.matched_pred[i]] = static_cast<int>(i);
-  }
+  InstanceIndex index = instance_index(r);
   for (int y = 0; y < gt.rows; ++y) {
     for (int x = 0; x < gt.cols; ++x) {
       const int g = gt.at<uint16_t>(y, x), p = pred.at<uint16_t>(y, x);
-      const int gi = g ? gt_index[g] : -1;
-      const auto it = pred_to_gt.find(p);
-      const int pi = p ? (it == pred_to_gt.end() ? -2 : it->second) : -1;
+      const int gi = g ? index.gt[g] : -1;
+      const auto it = index.pred.find(p);
+      const int pi = p ? (it == index.pred.end() ? -2 : it->second) : -1;
       if (gi >= 0) gt_panel.at<cv::Vec3b>(y, x) = kPalette[gi % 8];
       if (pi != -1) pred_panel.at<cv::Vec3b>(y, x) = pi >= 0 ? kPalette[pi % 8] : kUnmatched;
       if (gi >= 0 || pi != -1)
@@ -503,20 +513,16 @@ cv::Mat crossing_view(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat&
   if (roi.empty()) return cv::Mat();
   cv::Mat image = cv::imread(r.item.image, cv::IMREAD_COLOR);
   if (image.size() != gt.size()) image = cv::Mat(gt.size(), CV_8UC3, cv::Scalar(60, 60, 60));
-  std::map<int, int> gt_index, pred_to_gt;  // label -> GT instance index
-  for (size_t i = 0; i < r.dice.gt_ids.size(); ++i) {
-    gt_index[r.dice.gt_ids[i]] = static_cast<int>(i);
-    if (r.dice.matched_pred[i]) pred_to_gt[r.dice.matched_pred[i]] = static_cast<int>(i);
-  }
+  InstanceIndex index = instance_index(r);
   const cv::Mat picture = image(roi).clone();
   cv::Mat gt_panel = picture * 0.3, pred_panel = picture * 0.3;
   for (int y = 0; y < roi.height; ++y) {
     for (int x = 0; x < roi.width; ++x) {
       const int g = gt.at<uint16_t>(roi.y + y, roi.x + x), p = pred.at<uint16_t>(roi.y + y, roi.x + x);
-      if (g) gt_panel.at<cv::Vec3b>(y, x) = kPalette[gt_index[g] % 8];
+      if (g) gt_panel.at<cv::Vec3b>(y, x) = kPalette[index.gt[g] % 8];
       if (!p) continue;
-      const auto it = pred_to_gt.find(p);
-      pred_panel.at<cv::Vec3b>(y, x) = it == pred_to_gt.end() ? kUnmatched : kPalette[it->second % 8];
+      const auto it = index.pred.find(p);
+      pred_panel.at<cv::Vec3b>(y, x) = it == index.pred.end() ? kUnmatched : kPalette[it->second % 8];
     }
   }
   const double scale = 180.0 / roi.height;
