@@ -23,6 +23,9 @@ const std::atomic<bool>& catch_interrupts() {
 Result<std::string> json_option_text(const std::string& option, const std::string& value) {
   const size_t first = value.find_first_not_of(" \t\r\n");
   if (first != std::string::npos && value[first] == '{') return value;
+  std::error_code ec;
+  if (std::filesystem::is_directory(value, ec))
+    return Error{option + " " + value + ": is a folder, not a JSON file"};
   std::ifstream in(value);
   if (!in)
     return Error{option + " " + value + ": cannot read the file (give a JSON file, or an "

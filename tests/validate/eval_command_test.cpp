@@ -190,6 +190,9 @@ TEST(EvalCommand, RunTakesDetectorConstantsInlineOrFromAFile) {
   const Outcome unreadable = mbest("eval " + data + " --run --config " + (root / "none.json").string());
   EXPECT_EQ(unreadable.code, 1);
   EXPECT_NE(unreadable.err.find("none.json: cannot read the file"), std::string::npos) << unreadable.err;
+  const Outcome folder = mbest("eval " + data + " --run --config " + root.string());
+  EXPECT_EQ(folder.code, 1);
+  EXPECT_NE(folder.err.find("is a folder, not a JSON file"), std::string::npos) << folder.err;
   // The options that shape --run make no sense with --pred.
   for (const char* option : {" --colour-filter", " --mask-sibling semantic", " --config x.json"})
     EXPECT_EQ(mbest("eval " + data + " --pred " + (root / "pred").string() + option).code, 1) << option;

@@ -41,7 +41,8 @@ Evaluation small_evaluation(const fs::path& root, int keep_worst) {
 }
 
 TEST(Report, TerminalTableHasOneRowPerTierAndAll) {
-  const Evaluation e = small_evaluation(fresh_dir(), 0);
+  const fs::path root = fresh_dir();
+  const Evaluation e = small_evaluation(root, 0);
   const std::string t = tier_table(e, summarise(e));
   EXPECT_NE(t.find("strict DICE %"), std::string::npos);
   EXPECT_NE(t.find("S1         2          75.00  25.00      75.00         1         1             1"),
@@ -50,6 +51,10 @@ TEST(Report, TerminalTableHasOneRowPerTierAndAll) {
   EXPECT_NE(t.find("S2         1           0.00"), std::string::npos) << t;
   EXPECT_NE(t.find("all        3          50.00"), std::string::npos) << t;
   EXPECT_NE(t.find("1 image(s) had no usable prediction"), std::string::npos) << t;
+  EXPECT_NE(t.find("e.g. " + (root / "pred" / "S2" / "images" / "img0.labels.png").string() +
+                   ": missing prediction"),
+            std::string::npos)
+      << t;  // the first reason, so that a user need not open report.json to see it
 }
 
 TEST(Report, WritesJsonMarkdownAndHtmlWithEveryImage) {

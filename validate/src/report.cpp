@@ -593,9 +593,14 @@ std::vector<std::string> labels_of(const std::vector<B>& bins) {
 std::string tier_table(const Evaluation& e, const Summary& s) {
   std::string out = text_table(dice_header(), tier_rows(s, dice_row));
   if (synthetic(e)) out += "\n" + text_table(crossing_header(), tier_rows(s, crossing_row));
-  if (s.all.missing_predictions > 0)
+  if (s.all.missing_predictions > 0) {
     out += "\n" + std::to_string(s.all.missing_predictions) +
-           " image(s) had no usable prediction and scored 0 (see report.json).\n";
+           " image(s) had no usable prediction and scored 0 (see report.json)";
+    const auto first = std::find_if(e.images.begin(), e.images.end(),
+                                    [](const ImageResult& r) { return !r.prediction_error.empty(); });
+    if (first != e.images.end()) out += ", e.g. " + first->prediction_error;
+    out += ".\n";
+  }
   return out;
 }
 
