@@ -220,11 +220,13 @@ void add_eval_command(CLI::App& app, int* exit_code) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", a->threads, "images scored in parallel")->capture_default_str()
       ->check(CLI::Range(1, 64));
-  cmd->add_option("--worst", a->worst, "images in the report's gallery")->capture_default_str()
+  cmd->add_option("--worst", a->worst, "images in the report's gallery of the worst images")
+      ->capture_default_str()
       ->check(CLI::Range(0, 1000));
   cmd->add_option("--failed-crossings", a->failed_crossings,
-                  "synthetic data: per tier and crossing-angle bin, images whose first crossing "
-                  "paired wrong the report shows close up")
+                  "synthetic data: per tier and crossing-angle bin, how many images the report "
+                  "lists (report.md) and shows close up (report.html) at their first crossing "
+                  "paired wrong")
       ->capture_default_str()
       ->check(CLI::Range(0, 100));
   cmd->callback([a, exit_code] { *exit_code = run_eval(*a); });
