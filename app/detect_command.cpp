@@ -135,12 +135,12 @@ Result<nlohmann::json> process(const Input& in, const Options& o, bool mask_is_f
 
 int run(Options o) {
   if (!o.config.empty()) {
-    Result<std::string> text = json_option_text("--config", o.config);
-    if (!text) {
-      std::cerr << "mbest detect: " << text.error().message << "\n";
+    Result<JsonOption> given = json_option("--config", o.config);
+    if (!given) {
+      std::cerr << "mbest detect: " << given.error().message << "\n";
       return 2;
     }
-    Result<DetectorConfig> c = parse_detector_config(text.value());
+    Result<DetectorConfig> c = parse_detector_config(given.value().text);
     if (!c) {
       std::cerr << "mbest detect: --config " << o.config << ": " << c.error().message << "\n";
       return 2;

@@ -103,12 +103,12 @@ int run_eval(const EvalArgs& a) {
     }
   }
   if (!a.config.empty()) {
-    Result<std::string> text = json_option_text("--config", a.config);
-    if (!text) {
-      std::cerr << "mbest eval: " << text.error().message << "\n";
+    Result<JsonOption> given = json_option("--config", a.config);
+    if (!given) {
+      std::cerr << "mbest eval: " << given.error().message << "\n";
       return kEvalBadInput;
     }
-    Result<DetectorConfig> c = parse_detector_config(text.value());
+    Result<DetectorConfig> c = parse_detector_config(given.value().text);
     if (!c) {
       std::cerr << "mbest eval: --config " << a.config << ": " << c.error().message << "\n";
       return kEvalBadInput;

@@ -20,9 +20,9 @@ const std::atomic<bool>& catch_interrupts() {
   return g_interrupted;
 }
 
-Result<std::string> json_option_text(const std::string& option, const std::string& value) {
+Result<JsonOption> json_option(const std::string& option, const std::string& value) {
   const size_t first = value.find_first_not_of(" \t\r\n");
-  if (first != std::string::npos && value[first] == '{') return value;
+  if (first != std::string::npos && value[first] == '{') return JsonOption{value, option};
   std::error_code ec;
   if (std::filesystem::is_directory(value, ec))
     return Error{option + " " + value + ": is a folder, not a JSON file"};
@@ -32,7 +32,7 @@ Result<std::string> json_option_text(const std::string& option, const std::strin
                  "inline JSON object: text starting with '{')"};
   std::stringstream text;
   text << in.rdbuf();
-  return text.str();
+  return JsonOption{text.str(), value};
 }
 
 Status make_dirs(const std::string& dir) {

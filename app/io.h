@@ -13,9 +13,12 @@ namespace mbest::app {
 Status make_dirs(const std::string& dir);
 
 // The JSON text of an option such as --config: `value` itself when it is an inline object
-// (its first non-blank character is '{'), else the contents of the file it names. The error
-// names the option and the file.
-Result<std::string> json_option_text(const std::string& option, const std::string& value);
+// (its first non-blank character is '{'), else the contents of the file it names; `source`
+// names it in messages (the option, or the file). The error names the option and the file.
+struct JsonOption {
+  std::string text, source;
+};
+Result<JsonOption> json_option(const std::string& option, const std::string& value);
 
 // From the first call on, SIGINT and SIGTERM no longer end the process: they set the flag
 // returned, which long runs check between items so that what they write stays whole.

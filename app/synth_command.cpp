@@ -47,21 +47,19 @@ int run_synth(const SynthArgs& args) {
   synth::DatasetOptions options;
   Result<synth::SynthConfig> config = synth::make_config(args.preset, nlohmann::json(), "--preset");
   if (!args.config.empty()) {
-    Result<std::string> text = json_option_text("--config", args.config);
-    if (!text) {
-      std::cerr << "mbest synth: " << text.error().message << "\n";
+    Result<JsonOption> given = json_option("--config", args.config);
+    if (!given) {
+      std::cerr << "mbest synth: " << given.error().message << "\n";
       return 2;
     }
-    const bool inline_object = text.value() == args.config;
-    const std::string source = inline_object ? "--config" : args.config;
     nlohmann::json overrides;
     try {
-      overrides = nlohmann::json::parse(text.value());
+      overrides = nlohmann::json::parse(given.value().text);
     } catch (const nlohmann::json::exception& e) {
-      std::cerr << "mbest synth: " << source << ": not valid JSON (" << e.what() << ")\n";
+      std::cerr << "mbest synth: " << given.value().source << ": not valid JSON (" << e.what() << ")\n";
       return 2;
     }
-    config = synth::make_config(args.preset, overrides, source);
+    config = synth::make_config(args.preset, overrides, given.value().source);
   }
   if (!config) {
     std::cerr << "mbest synth: " << config.error().message << "\n";

@@ -82,19 +82,14 @@ Result<Prediction> run_detector(const DatasetItem& item, const EvalOptions& opti
   if (!bgr) return bgr.error();
   Prediction p;
   p.source = "(run)";
-  Result<cv::Mat> mask = Error{"no mask"};
-  if (options.mask_sibling.empty()) {
-    mask = colour_filter(bgr.value());
-    if (!mask) {
-      p.error = item.image + ": colour filter failed: " + mask.error().message;
-      return p;
-    }
-  } else {
-    mask = read_mask(sibling_mask_path(item.image, options.mask_sibling), bgr.value().size());
-    if (!mask) {
-      p.error = mask.error().message;
-      return p;
-    }
+  const bool filter = options.mask_sibling.empty();
+  Result<cv::Mat> mask =
+      filter ? colour_filter(bgr.value())
+             : read_mask(sibling_mask_path(item.image, options.mask_sibling), bgr.value().size());
+  if (!mask) {  // read_mask's error names the file
+    p.error = filter ? item.image + ": colour filter failed: " + mask.error().message
+                     : mask.error().message;
+    return p;
   }
   // An exception from the detector is its failure on this image, not the evaluation's.
   Result<Detection> detection = Error{"no result"};
