@@ -461,42 +461,63 @@ InstanceIndex instance_index(const ImageResult& r) {
   return index;
 }
 
-// Three panels: ground truth, prediction (each predicted instance in the colour of the GT
-// instance matched to it; magenta when unmatched), and the disagreement.
-cv::Mat overlay(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat& pred_in) {
-  const cv::Mat gt = labels_16u(gt_in), pred = labels_16u(pred_in);
+// The picture of image r, or a grey one of `size` where it cannot be read or differs in size.
+cv::Mat picture_of(const ImageResult& r, cv::Size size) {
   cv::Mat image = cv::imread(r.item.image, cv::IMREAD_COLOR);
-  if (image.size() != gt.size()) image = cv::Mat(gt.size(), CV_8UC3, cv::Scalar(60, 60, 60));
-  cv::Mat base = image * 0.45;
-  cv::Mat gt_panel = base.clone(), pred_panel = base.clone(), err_panel = base * 0.5;
+  if (image.size() != size) image = cv::Mat(size, CV_8UC3, cv::Scalar(60, 60, 60));
+  return image;
+}
+
+// Paints `roi` of the labels into panels the size of roi: the ground truth's instances in
+// gt_panel, the predicted ones in pred_panel (each in the colour of the GT instance matched
+// to it, kUnmatched when none is) and, when given, the disagreement in err_panel.
+void paint_labels(const ImageResult& r, const cv::Mat& gt16, const cv::Mat& pred16, cv::Rect roi,
+                  cv::Mat& gt_panel, cv::Mat& pred_panel, cv::Mat* err_panel) {
   InstanceIndex index = instance_index(r);
-  for (int y = 0; y < gt.rows; ++y) {
-    for (int x = 0; x < gt.cols; ++x) {
-      const int g = gt.at<uint16_t>(y, x), p = pred.at<uint16_t>(y, x);
+  for (int y = 0; y < roi.height; ++y) {
+    for (int x = 0; x < roi.width; ++x) {
+      const int g = gt16.at<uint16_t>(roi.y + y, roi.x + x), p = pred16.at<uint16_t>(roi.y + y, roi.x + x);
       const int gi = g ? index.gt[g] : -1;
       const auto it = index.pred.find(p);
       const int pi = p ? (it == index.pred.end() ? -2 : it->second) : -1;
       if (gi >= 0) gt_panel.at<cv::Vec3b>(y, x) = kPalette[gi % 8];
       if (pi != -1) pred_panel.at<cv::Vec3b>(y, x) = pi >= 0 ? kPalette[pi % 8] : kUnmatched;
-      if (gi >= 0 || pi != -1)
-        err_panel.at<cv::Vec3b>(y, x) = gi == pi ? kRight
-                                      : gi < 0   ? kSpurious
-                                      : pi == -1 ? kMissed
-                                                 : kWrong;
+      if (err_panel && (gi >= 0 || pi != -1))
+        err_panel->at<cv::Vec3b>(y, x) = gi == pi ? kRight
+                                       : gi < 0   ? kSpurious
+                                       : pi == -1 ? kMissed
+                                                  : kWrong;
     }
   }
-  const double scale = std::min(1.0, 320.0 / gt.cols);
-  cv::Mat out;
-  std::vector<cv::Mat> panels;
-  for (cv::Mat* m : {&gt_panel, &pred_panel, &err_panel}) {
-    cv::Mat small;
-    cv::resize(*m, small, cv::Size(), scale, scale, cv::INTER_AREA);
-    panels.push_back(small);
-    panels.push_back(cv::Mat(small.rows, 6, CV_8UC3, cv::Scalar(255, 255, 255)));
+}
+
+// The panels side by side, `gap` white pixels apart.
+cv::Mat side_by_side(const std::vector<cv::Mat>& panels, int gap) {
+  std::vector<cv::Mat> row;
+  for (const cv::Mat& m : panels) {
+    if (!row.empty()) row.push_back(cv::Mat(m.rows, gap, CV_8UC3, cv::Scalar(255, 255, 255)));
+    row.push_back(m);
   }
-  panels.pop_back();
-  cv::hconcat(panels, out);
+  cv::Mat out;
+  cv::hconcat(row, out);
   return out;
+}
+
+// Three panels: ground truth, prediction (each predicted instance in the colour of the GT
+// instance matched to it; magenta when unmatched), and the disagreement.
+cv::Mat overlay(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat& pred_in) {
+  const cv::Mat gt = labels_16u(gt_in), pred = labels_16u(pred_in);
+  const cv::Mat base = picture_of(r, gt.size()) * 0.45;
+  cv::Mat gt_panel = base.clone(), pred_panel = base.clone(), err_panel = base * 0.5;
+  paint_labels(r, gt, pred, cv::Rect(0, 0, gt.cols, gt.rows), gt_panel, pred_panel, &err_panel);
+  const double scale = std::min(1.0, 320.0 / gt.cols);
+  std::vector<cv::Mat> panels;
+  for (const cv::Mat& m : {gt_panel, pred_panel, err_panel}) {  // headers: no pixel copies
+    cv::Mat small;
+    cv::resize(m, small, cv::Size(), scale, scale, cv::INTER_AREA);
+    panels.push_back(small);
+  }
+  return side_by_side(panels, 6);
 }
 
 // A close view of crossing `c` of image r: the picture, the ground truth and the prediction
@@ -511,20 +532,9 @@ cv::Mat crossing_view(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat&
                                 2 * half, 2 * half) &
                        cv::Rect(0, 0, gt.cols, gt.rows);
   if (roi.empty()) return cv::Mat();
-  cv::Mat image = cv::imread(r.item.image, cv::IMREAD_COLOR);
-  if (image.size() != gt.size()) image = cv::Mat(gt.size(), CV_8UC3, cv::Scalar(60, 60, 60));
-  InstanceIndex index = instance_index(r);
-  const cv::Mat picture = image(roi).clone();
+  const cv::Mat picture = picture_of(r, gt.size())(roi).clone();
   cv::Mat gt_panel = picture * 0.3, pred_panel = picture * 0.3;
-  for (int y = 0; y < roi.height; ++y) {
-    for (int x = 0; x < roi.width; ++x) {
-      const int g = gt.at<uint16_t>(roi.y + y, roi.x + x), p = pred.at<uint16_t>(roi.y + y, roi.x + x);
-      if (g) gt_panel.at<cv::Vec3b>(y, x) = kPalette[index.gt[g] % 8];
-      if (!p) continue;
-      const auto it = index.pred.find(p);
-      pred_panel.at<cv::Vec3b>(y, x) = it == index.pred.end() ? kUnmatched : kPalette[it->second % 8];
-    }
-  }
+  paint_labels(r, gt, pred, roi, gt_panel, pred_panel, nullptr);
   const double scale = 180.0 / roi.height;
   const cv::Point centre(cvRound((c.location.x - roi.x) * scale), cvRound((c.location.y - roi.y) * scale));
   std::vector<cv::Mat> panels;
@@ -534,12 +544,8 @@ cv::Mat crossing_view(const ImageResult& r, const cv::Mat& gt_in, const cv::Mat&
     cv::circle(big, centre, std::max(6, cvRound(c.width_px * scale)), cv::Scalar(255, 255, 255), 1,
                cv::LINE_AA);
     panels.push_back(big);
-    panels.push_back(cv::Mat(big.rows, 4, CV_8UC3, cv::Scalar(255, 255, 255)));
   }
-  panels.pop_back();
-  cv::Mat out;
-  cv::hconcat(panels, out);
-  return out;
+  return side_by_side(panels, 4);
 }
 
 std::string failed_crossings_note(const Evaluation& e) {
