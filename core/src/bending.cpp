@@ -300,14 +300,23 @@ double bending_energy(const BranchTangent& in, const BranchTangent& out) {
   return k1 * k1 + k2 * k2;
 }
 
-double pair_cost(const BranchTangent& a, const BranchTangent& b, double colour_weight) {
-  return 0.5 * (bending_energy(a, b) + bending_energy(b, a)) + colour_weight * colour_penalty(a, b);
+double width_penalty(const BranchTangent& a, const BranchTangent& b) {
+  if (!(a.radius > 0) || !(b.radius > 0)) return 0;
+  const double ratio = std::max(a.radius, b.radius) / std::min(a.radius, b.radius);
+  return ratio < kTwoStrandRatio ? std::max(0.0, ratio - kWidthTolerance) : 0.0;
+}
+
+double pair_cost(const BranchTangent& a, const BranchTangent& b, PairWeights weights) {
+  double cost = 0.5 * (bending_energy(a, b) + bending_energy(b, a));
+  if (weights.colour > 0) cost += weights.colour * colour_penalty(a, b);
+  if (weights.width > 0) cost += weights.width * width_penalty(a, b);
+  return cost;
 }
 
 double pairing_cost(const std::vector<BranchTangent>& exits,
-                    const std::vector<std::pair<int, int>>& pairs, double colour_weight) {
+                    const std::vector<std::pair<int, int>>& pairs, PairWeights weights) {
   double cost = 0;
-  for (const auto& [a, b] : pairs) cost += pair_cost(exits[a], exits[b], colour_weight);
+  for (const auto& [a, b] : pairs) cost += pair_cost(exits[a], exits[b], weights);
   return cost;
 }
 
@@ -334,12 +343,12 @@ std::vector<std::pair<int, int>> least_cost_pairing(const std::vector<std::vecto
 }  // namespace
 
 std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
-                                                    double colour_weight) {
+                                                    PairWeights weights) {
   const int n = static_cast<int>(exits.size());
   std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b)
-      e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], colour_weight);
+      e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], weights);
   return least_cost_pairing(e);
 }
 
@@ -386,7 +395,7 @@ std::vector<std::vector<double>> TangentCache::pair_costs(const std::vector<Bran
       const uint64_t key = std::min(ka, kb) << 32 | std::max(ka, kb);
       auto known = pair_costs_.find(key);
       if (known == pair_costs_.end())
-        known = pair_costs_.emplace(key, pair_cost(t[a], t[b], setup_.colour_weight)).first;
+        known = pair_costs_.emplace(key, pair_cost(t[a], t[b], setup_.weights())).first;
       e[a][b] = e[b][a] = known->second;
     }
   return e;
@@ -474,11 +483,13 @@ constexpr float kCurveWeight = 0.25f;
 
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache,
                                     double fold_energy, double unlike_energy, double unlike_fold_energy) {
-  const double colour_weight = cache.setup().colour_weight;
+  const PairWeights weights = cache.setup().weights();
+  // The folds below are weighed by shape: bending energy, and width where it counts.
+  const PairWeights shape{0, weights.width};
   // Two DLOs that end inside one crossing region: its least-cost pairing pairs every exit
   // it can, so their ends are joined unless their colours and the bend say otherwise.
-  const auto unlike = [](const BranchTangent& a, const BranchTangent& b, double energy) {
-    return colour_penalty(a, b) >= kColourPenaltyMax && pair_cost(a, b, 0) >= energy;
+  const auto unlike = [&](const BranchTangent& a, const BranchTangent& b, double energy) {
+    return colour_penalty(a, b) >= kColourPenaltyMax && pair_cost(a, b, shape) >= energy;
   };
   std::vector<Passage> passages;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
@@ -486,10 +497,10 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
     if (region.exits.size() < 2) continue;
     std::vector<BranchTangent> tangents = cache.of(region.exits);
     recolour_wide_exit(cache.graph(), region.exits, cache.setup(), tangents);
-    if (tangents.size() == 2 && (pair_cost(tangents[0], tangents[1], 0) > fold_energy ||
+    if (tangents.size() == 2 && (pair_cost(tangents[0], tangents[1], shape) > fold_energy ||
                                  unlike(tangents[0], tangents[1], unlike_fold_energy)))
       continue;
-    for (const auto& [i, j] : min_energy_pairing(tangents, colour_weight)) {
+    for (const auto& [i, j] : min_energy_pairing(tangents, weights)) {
       if (unlike(tangents[i], tangents[j], unlike_energy)) continue;  // both strands end here
       Passage p;
       p.region = r;
@@ -679,7 +690,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
   const auto lone_exit = [&](const CrossingRegion& r) {
     const std::vector<BranchTangent> t = cache.of(r.exits);
     std::vector<bool> paired(r.exits.size(), false);
-    for (const auto& [a, b] : min_energy_pairing(t, setup.colour_weight)) paired[a] = paired[b] = true;
+    for (const auto& [a, b] : min_energy_pairing(t, setup.weights())) paired[a] = paired[b] = true;
     for (size_t k = 0; k < paired.size(); ++k)
       if (!paired[k]) return static_cast<int>(k);
     return -1;
@@ -702,7 +713,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     std::vector<BranchEnd> exits = exits_but({&a, &c}, {i});
     if (exits.size() > kMaxExactExits) continue;
     const std::vector<BranchTangent> t = cache.of(exits);
-    const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, setup.colour_weight);
+    const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, setup.weights());
     // Either the strands each Y leaves ending continue each other (together, the two ends
     // pair with each other) ...
     bool joined = false;
@@ -710,7 +721,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     const int la = lone_exit(a), lc = lone_exit(c);
     if (la >= 0 && lc >= 0 && a.exits[la].branch != i && c.exits[lc].branch != i) {
       const BranchEnd ea = a.exits[la], ec = c.exits[lc];
-      cost = pair_cost(cache.of({ea})[0], cache.of({ec})[0], setup.colour_weight);
+      cost = pair_cost(cache.of({ea})[0], cache.of({ec})[0], setup.weights());
       if (cost <= max_cost)
         for (const auto& [x, y] : pairs)
           joined |= (exits[x] == ea && exits[y] == ec) || (exits[x] == ec && exits[y] == ea);
@@ -724,7 +735,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
       double worst = 0;
       for (const auto& [x, y] : pairs) {
         all &= (static_cast<size_t>(x) < from_a) != (static_cast<size_t>(y) < from_a);
-        worst = std::max(worst, pair_cost(t[x], t[y], setup.colour_weight));
+        worst = std::max(worst, pair_cost(t[x], t[y], setup.weights()));
       }
       if (all && worst <= max_cost) joined = true, cost = worst;
     }
@@ -735,7 +746,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     // gain first (its cost is the negative gain).
     if (!joined) {
       const double gain = cache.least_cost(a.exits) + cache.least_cost(c.exits) -
-                          pairing_cost(t, pairs, setup.colour_weight);
+                          pairing_cost(t, pairs, setup.weights());
       if (gain >= min_gain) joined = true, cost = -gain;
     }
     if (joined) candidates.push_back({cost, ra, {rb}, {i}, std::move(exits)});
@@ -772,11 +783,11 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
         const auto part = [n](int k) { return k < 2 ? 0 : k >= n - 2 ? 2 : 1; };
         bool through = true;
         double worst = 0;
-        for (const auto& [u, v] : min_energy_pairing(t, setup.colour_weight)) {
+        for (const auto& [u, v] : min_energy_pairing(t, setup.weights())) {
           const int pu = part(u), pv = part(v);
           if (pu == 1 && pv == 1) continue;
           through &= pu + pv == 2 && pu != 1;
-          worst = std::max(worst, pair_cost(t[u], t[v], setup.colour_weight));
+          worst = std::max(worst, pair_cost(t[u], t[v], setup.weights()));
         }
         if (through && worst <= max_cost) candidates.push_back({worst, m, {ra, rc}, {i, j}, std::move(exits)});
       }

@@ -167,7 +167,7 @@ double brute_force_cost(const std::vector<BranchTangent>& t, std::vector<int> le
   for (size_t k = 0; k < left.size(); ++k) {
     std::vector<int> rest = left;
     rest.erase(rest.begin() + static_cast<long>(k));
-    best = std::min(best, pair_cost(t[a], t[left[k]], 0) + brute_force_cost(t, rest, singles));
+    best = std::min(best, pair_cost(t[a], t[left[k]], {}) + brute_force_cost(t, rest, singles));
   }
   if (singles) best = std::min(best, brute_force_cost(t, left, 0));
   return best;
@@ -187,10 +187,10 @@ TEST(Bending, PairingOfManyExitsIsTheLeastCostOne) {
     const double least = brute_force_cost(exits, all, n % 2);
     const auto pairs = min_energy_pairing(exits);
     EXPECT_EQ(pairs.size(), static_cast<size_t>(n / 2));
-    EXPECT_NEAR(pairing_cost(exits, pairs, 0), least, 1e-9) << "trial " << trial;
+    EXPECT_NEAR(pairing_cost(exits, pairs, {}), least, 1e-9) << "trial " << trial;
     std::vector<std::pair<double, std::pair<int, int>>> by_cost;
     for (int a = 0; a < n; ++a)
-      for (int b = a + 1; b < n; ++b) by_cost.push_back({pair_cost(exits[a], exits[b], 0), {a, b}});
+      for (int b = a + 1; b < n; ++b) by_cost.push_back({pair_cost(exits[a], exits[b], {}), {a, b}});
     std::sort(by_cost.begin(), by_cost.end());
     std::vector<bool> used(n, false);
     double greedy = 0;
@@ -242,13 +242,47 @@ TEST(Bending, ColourDecidesBetweenPairingsGeometryCannotTellApart) {
   auto plain = min_energy_pairing(exits);
   ASSERT_EQ(plain.size(), 2u);
   for (auto [a, b] : plain) EXPECT_EQ(std::abs(a - b), 2);
-  auto with_colour = min_energy_pairing(exits, 2.0);
+  auto with_colour = min_energy_pairing(exits, {2.0});
   ASSERT_EQ(with_colour.size(), 2u);
   for (auto [a, b] : with_colour) EXPECT_EQ(exits[a].colour, exits[b].colour) << a << "-" << b;
   // Same colour everywhere: colour changes nothing.
   std::vector<BranchTangent> grey = exits;
   for (BranchTangent& t : grey) t.colour = {50, 0, 0};
-  EXPECT_EQ(min_energy_pairing(grey, 2.0), plain);
+  EXPECT_EQ(min_energy_pairing(grey, {2.0}), plain);
+}
+
+BranchTangent with_radius(BranchTangent t, float radius) {
+  t.radius = radius;
+  return t;
+}
+
+TEST(Bending, WidthPenaltyGrowsWithTheWidthRatioUpToTwoStrands) {
+  const BranchTangent thin = with_radius(exit_at(0), 3);
+  EXPECT_EQ(width_penalty(thin, with_radius(exit_at(180), 3)), 0);
+  EXPECT_EQ(width_penalty(thin, with_radius(exit_at(180), 3.25f)), 0) << "within the scatter of one DLO";
+  EXPECT_NEAR(width_penalty(thin, with_radius(exit_at(180), 4.5f)), 1.5 - kWidthTolerance, 1e-6);
+  EXPECT_NEAR(width_penalty(with_radius(exit_at(180), 4.5f), thin), 1.5 - kWidthTolerance, 1e-6)
+      << "symmetric";
+  EXPECT_EQ(width_penalty(thin, with_radius(exit_at(180), 6)), 0)
+      << "twice as wide: two strands side by side, one of which runs on";
+  EXPECT_EQ(width_penalty(thin, exit_at(180)), 0) << "no radius measured on one side";
+  // In pair_cost, weighed by PairWeights::width only.
+  const BranchTangent thick = with_radius(exit_at(180), 4.5f);
+  EXPECT_NEAR(pair_cost(thin, thick, {0, 4}) - pair_cost(thin, thick, {}), 4 * (1.5 - kWidthTolerance), 1e-6);
+}
+
+TEST(Bending, WidthKeepsAThinAndAThickDloApartAtAShallowCrossing) {
+  // A 6 px and a 9 px wide DLO crossing at 10 degrees, each bending 10 degrees through the
+  // crossing: by bending alone the straight swap (thin in, thick out) wins; widths do not
+  // change at a crossing.
+  const std::vector<BranchTangent> exits{with_radius(exit_at(0), 3), with_radius(exit_at(10), 4.5f),
+                                         with_radius(exit_at(190), 3), with_radius(exit_at(180), 4.5f)};
+  const auto plain = min_energy_pairing(exits);
+  ASSERT_EQ(plain.size(), 2u);
+  for (auto [a, b] : plain) EXPECT_NE(exits[a].radius, exits[b].radius) << a << "-" << b;
+  const auto with_width = min_energy_pairing(exits, {0, 4});
+  ASSERT_EQ(with_width.size(), 2u);
+  for (auto [a, b] : with_width) EXPECT_EQ(exits[a].radius, exits[b].radius) << a << "-" << b;
 }
 
 // A strand through a crossing, as the two exit branches it joins (lower index first).
@@ -258,7 +292,7 @@ Strand strand(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 // The strands `region`'s least-cost pairing makes.
 std::set<Strand> strands_of(const CrossingRegion& region, TangentCache& cache) {
   std::set<Strand> out;
-  for (const auto& [i, j] : min_energy_pairing(cache.of(region.exits), cache.setup().colour_weight))
+  for (const auto& [i, j] : min_energy_pairing(cache.of(region.exits), cache.setup().weights()))
     out.insert(strand(region.exits[i].branch, region.exits[j].branch));
   return out;
 }
@@ -366,7 +400,7 @@ TEST(Bending, RegionsThatPairBetterTogetherAreMerged) {
   ASSERT_EQ(r.inner_branches.size(), 1u);
   EXPECT_FALSE(b.graph.branches[r.inner_branches[0]].alive) << "the link is inside the crossing";
   const std::vector<BranchTangent> t = exit_tangents(b.graph, r.exits, setup);
-  for (const auto& [i, j] : min_energy_pairing(t, setup.colour_weight)) {
+  for (const auto& [i, j] : min_energy_pairing(t, setup.weights())) {
     EXPECT_LT(t[i].direction.dot(t[j].direction), -0.95) << "strands run straight through";
     EXPECT_EQ(colour_penalty(t[i], t[j]), 0);
   }
@@ -479,7 +513,7 @@ TEST(Bending, ThreeRegionsInARowMergeWhenOnlyTogetherTheyPairWell) {
     std::pair<int, int> blue_pair{-1, -1};
     if (regions.size() == 1) {
       const std::vector<BranchTangent> t = exit_tangents(h.graph, regions[0].exits, setup);
-      for (const auto& [i, j] : min_energy_pairing(t, setup.colour_weight)) {
+      for (const auto& [i, j] : min_energy_pairing(t, setup.weights())) {
         const int x = regions[0].exits[i].branch, y = regions[0].exits[j].branch;
         if (x == blue_in || y == blue_in) blue_pair = {std::min(x, y), std::max(x, y)};
         EXPECT_NE(x, purple_end) << "purple ends";
@@ -516,7 +550,7 @@ TEST(Bending, BendJoiningTwoColoursBesideAYMergesIntoIt) {
   ASSERT_EQ(regions.size(), 1u);
   ASSERT_EQ(regions[0].exits.size(), 3u);
   const std::vector<BranchTangent> t = exit_tangents(h.graph, regions[0].exits, setup);
-  const auto pairs = min_energy_pairing(t, setup.colour_weight);
+  const auto pairs = min_energy_pairing(t, setup.weights());
   ASSERT_EQ(pairs.size(), 1u);
   const int a = regions[0].exits[pairs[0].first].branch, b = regions[0].exits[pairs[0].second].branch;
   EXPECT_EQ(std::min(a, b), std::min(left, right)) << "the orange runs through";
@@ -535,7 +569,7 @@ TEST(Bending, RegionWhereAStrandEndsMergesToo) {
   const CrossingRegion& r = b.regions[0];
   ASSERT_EQ(r.exits.size(), 7u);
   const std::vector<BranchTangent> t = exit_tangents(b.graph, r.exits, setup);
-  const auto pairs = min_energy_pairing(t, setup.colour_weight);
+  const auto pairs = min_energy_pairing(t, setup.weights());
   ASSERT_EQ(pairs.size(), 3u);
   std::vector<bool> paired(r.exits.size(), false);
   for (const auto& [i, j] : pairs) {
@@ -615,7 +649,7 @@ TEST(Bending, RegionsEachPairingTheLinkDearlyAreOneCrossing) {
     for (const auto& [r, ending] : {std::pair{0, blue_in}, std::pair{1, red_out}}) {
       const std::vector<BranchTangent> t = cache.of(regions[r].exits);
       std::vector<bool> paired(t.size(), false);
-      for (const auto& [i, j] : min_energy_pairing(t, setup.colour_weight)) paired[i] = paired[j] = true;
+      for (const auto& [i, j] : min_energy_pairing(t, setup.weights())) paired[i] = paired[j] = true;
       for (size_t k = 0; k < t.size(); ++k)
         EXPECT_EQ(!paired[k], regions[r].exits[k].branch == ending) << "region " << r << ", exit " << k;
     }
@@ -630,7 +664,7 @@ TEST(Bending, RegionsEachPairingTheLinkDearlyAreOneCrossing) {
   ASSERT_EQ(regions.size(), 1u);
   ASSERT_EQ(regions[0].exits.size(), 6u);
   const std::vector<BranchTangent> t = cache.of(regions[0].exits);
-  const auto pairs = min_energy_pairing(t, setup.colour_weight);
+  const auto pairs = min_energy_pairing(t, setup.weights());
   ASSERT_EQ(pairs.size(), 3u);
   for (const auto& [i, j] : pairs) {
     EXPECT_EQ(colour_penalty(t[i], t[j]), 0) << "every strand keeps its colour";
@@ -792,7 +826,7 @@ TEST(Bending, TwoDLOsOfDifferentColoursEndingInACrossingAreNotJoined) {
     ASSERT_EQ(strands_of(sharp.regions[0], tangents).count(strand(sharp.first, sharp.second)), 1u)
         << "the least-cost pairing joins them";
     ASSERT_EQ(colour_penalty(t[0], t[1]), kColourPenaltyMax);
-    ASSERT_GE(pair_cost(t[0], t[1], 0), 4.0);
+    ASSERT_GE(pair_cost(t[0], t[1], {}), 4.0);
   }
   EXPECT_FALSE(ends_joined(sharp, 4.0)) << "unlike colours, sharp bend: two DLOs ending";
   EXPECT_TRUE(ends_joined(sharp, kOff)) << "the rule turned off";
@@ -817,7 +851,7 @@ TEST(Bending, ByDefaultTwoColoursEndingInACrossingAtA100DegreeTurnAreNotJoined) 
     TangentCache tangents(folding.graph, setup);
     const std::vector<BranchTangent> t = tangents.of(folding.regions[0].exits);
     ASSERT_EQ(strands_of(folding.regions[0], tangents).count(strand(folding.first, folding.second)), 1u);
-    const double bend = pair_cost(t[0], t[1], 0);
+    const double bend = pair_cost(t[0], t[1], {});
     ASSERT_GT(bend, 1.0);
     ASSERT_LT(bend, 4.0) << "a turn the first threshold (4) let through";
   }

@@ -356,6 +356,44 @@ TEST(Detector, SideBySideRodsOfTwoColoursAreLabelledByColour) {
       << "drawn paths alone must get this scene wrong: else this test proves nothing";
 }
 
+// A 6 px and a 10 px wide rod crossing, each turning `turn_deg` where they cross, so that
+// the mask is two straight bands of changing width: by bending alone each DLO goes
+// straight on (and changes width); a DLO keeps its width, so the pairing follows it.
+TEST(Detector, ARodKeepsItsWidthThroughACrossing) {
+  for (const double turn_deg : {25.0, 40.0}) {
+    const double t = turn_deg * M_PI / 180;
+    const cv::Point c(210, 150);
+    const cv::Point along_turn(static_cast<int>(std::lround(190 * std::cos(t))),
+                               static_cast<int>(std::lround(-190 * std::sin(t))));
+    const std::vector<cv::Point> thin{{20, 150}, c, c + along_turn};
+    const std::vector<cv::Point> thick{c - along_turn, c, {400, 150}};
+    std::vector<cv::Mat> gt{cv::Mat::zeros(300, 420, CV_8UC1), cv::Mat::zeros(300, 420, CV_8UC1)};
+    test::draw_rod(gt[0], thin, 6);
+    test::draw_rod(gt[1], thick, 10);
+    const cv::Mat mask = gt[0] | gt[1];
+    for (const bool mirrored : {false, true}) {
+      SCOPED_TRACE(testing::Message() << turn_deg << " degrees" << (mirrored ? ", mirrored" : ""));
+      std::vector<cv::Mat> truth = gt;
+      cv::Mat m = mask.clone();
+      if (mirrored) {
+        for (cv::Mat& g : truth) cv::flip(g, g, 1);
+        cv::flip(m, m, 1);
+      }
+      auto r = detect(m);
+      ASSERT_TRUE(r.ok());
+      EXPECT_EQ(r.value().dlos.size(), 2u);
+      EXPECT_GT(test::strict_dice(truth, r.value().labels), 0.95);
+      expect_labels_cover_mask(r.value(), m);
+      DetectorConfig shape_alone;
+      shape_alone.width_weight = 0;
+      auto without = detect(m, cv::Mat(), shape_alone);
+      ASSERT_TRUE(without.ok());
+      EXPECT_LT(test::strict_dice(truth, without.value().labels), 0.9)
+          << "bending alone must get this scene wrong: else this test proves nothing";
+    }
+  }
+}
+
 // Two rods (`gt`) lying side by side over a stretch are two DLOs that do not cross, from
 // the mask alone: the branch they share is split in two, one strand on each side.
 void expect_two_dlos_side_by_side(const cv::Mat& mask, const std::vector<cv::Mat>& gt) {
