@@ -77,7 +77,8 @@ struct DetectorConfig {
   // the mask alone. At 4, pairing a 6 px wide exit with a 9 px one costs 1.6, about a 100
   // degree turn. Added 2026-12-06: on the 9000 generated scenes of seeds 1000-21000 it
   // cut `stress` pairing failures from 3197 to 2906 and raised `stress` strict DICE by
-  // 0.3-0.4 points; outside `stress` at 10 degrees and above 137 failures became 125.
+  // 0.3-0.4 points; in `s2`, `s3` and `cables` at 10 degrees and above 137 failures
+  // became 125.
   // 0 turns it off.
   double width_weight = 4.0;
   // Two crossing regions joined by a branch up to epsilon_radii long become one when
