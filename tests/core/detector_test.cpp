@@ -356,6 +356,25 @@ TEST(Detector, SideBySideRodsOfTwoColoursAreLabelledByColour) {
       << "drawn paths alone must get this scene wrong: else this test proves nothing";
 }
 
+// The mask of the two rods `gt` is detected (from the mask alone) as two DLOs matching
+// them, labels covering the mask; detected with `rule_off`, the rule under test turned
+// off, it is not, or the test would prove nothing. The detection goes to `out` if given.
+void expect_two_dlos_needing(const cv::Mat& mask, const std::vector<cv::Mat>& gt,
+                             const DetectorConfig& rule_off, const std::string& rule,
+                             Detection* out = nullptr) {
+  auto r = detect(mask);
+  ASSERT_TRUE(r.ok());
+  const Detection& d = r.value();
+  EXPECT_EQ(d.dlos.size(), 2u);
+  EXPECT_GT(test::strict_dice(gt, d.labels), 0.95);
+  expect_labels_cover_mask(d, mask);
+  auto without = detect(mask, cv::Mat(), rule_off);
+  ASSERT_TRUE(without.ok());
+  EXPECT_LT(test::strict_dice(gt, without.value().labels), 0.9)
+      << "the scene must need " << rule << ": else this test proves nothing";
+  if (out) *out = d;
+}
+
 // A 6 px and a 10 px wide rod crossing, each turning `turn_deg` where they cross, so that
 // the mask is two straight bands of changing width: by bending alone each DLO goes
 // straight on (and changes width); a DLO keeps its width, so the pairing follows it.
@@ -379,17 +398,9 @@ TEST(Detector, ARodKeepsItsWidthThroughACrossing) {
         for (cv::Mat& g : truth) cv::flip(g, g, 1);
         cv::flip(m, m, 1);
       }
-      auto r = detect(m);
-      ASSERT_TRUE(r.ok());
-      EXPECT_EQ(r.value().dlos.size(), 2u);
-      EXPECT_GT(test::strict_dice(truth, r.value().labels), 0.95);
-      expect_labels_cover_mask(r.value(), m);
-      DetectorConfig shape_alone;
-      shape_alone.width_weight = 0;
-      auto without = detect(m, cv::Mat(), shape_alone);
-      ASSERT_TRUE(without.ok());
-      EXPECT_LT(test::strict_dice(truth, without.value().labels), 0.9)
-          << "bending alone must get this scene wrong: else this test proves nothing";
+      DetectorConfig bending_alone;
+      bending_alone.width_weight = 0;
+      expect_two_dlos_needing(m, truth, bending_alone, "the width cost");
     }
   }
 }
@@ -397,19 +408,11 @@ TEST(Detector, ARodKeepsItsWidthThroughACrossing) {
 // Two rods (`gt`) lying side by side over a stretch are two DLOs that do not cross, from
 // the mask alone: the branch they share is split in two, one strand on each side.
 void expect_two_dlos_side_by_side(const cv::Mat& mask, const std::vector<cv::Mat>& gt) {
-  auto r = detect(mask);
-  ASSERT_TRUE(r.ok());
-  const Detection& d = r.value();
-  EXPECT_EQ(d.dlos.size(), 2u);
-  EXPECT_TRUE(d.crossings.empty()) << d.crossings.size() << " crossings";
-  EXPECT_GT(test::strict_dice(gt, d.labels), 0.95);
-  expect_labels_cover_mask(d, mask);
   DetectorConfig unsplit;
   unsplit.side_by_side_radii = 1000;
-  auto without = detect(mask, cv::Mat(), unsplit);
-  ASSERT_TRUE(without.ok());
-  EXPECT_LT(test::strict_dice(gt, without.value().labels), 0.9)
-      << "the scene must need the split: else this test proves nothing";
+  Detection d;
+  expect_two_dlos_needing(mask, gt, unsplit, "the split", &d);
+  EXPECT_TRUE(d.crossings.empty()) << d.crossings.size() << " crossings";
 }
 
 // expect_two_dlos_side_by_side for `rods` drawn `width` px wide, as drawn and mirrored
