@@ -362,7 +362,7 @@ BranchTangent exit_tangent(const SkeletonGraph& g, BranchEnd e, const PairingSet
   const Branch& b = g.branches[e.branch];
   const bool shared = g.nodes[b.node[1 - e.side]].kind == Node::Kind::junction;
   BranchTangent t = fit_branch_tangent(g, e, s.cut_length, s.fit_length, shared);
-  if (s.colour_weight > 0)
+  if (s.weights.colour > 0)
     sample_branch_colour(g, e, s.bgr, &t,
                          static_cast<int>(std::lround(kColourStretchFits * s.fit_length)));
   return t;
@@ -395,7 +395,7 @@ std::vector<std::vector<double>> TangentCache::pair_costs(const std::vector<Bran
       const uint64_t key = std::min(ka, kb) << 32 | std::max(ka, kb);
       auto known = pair_costs_.find(key);
       if (known == pair_costs_.end())
-        known = pair_costs_.emplace(key, pair_cost(t[a], t[b], setup_.weights())).first;
+        known = pair_costs_.emplace(key, pair_cost(t[a], t[b], setup_.weights)).first;
       e[a][b] = e[b][a] = known->second;
     }
   return e;
@@ -448,7 +448,7 @@ namespace {
 // still outvotes the far crossing's overlap.
 void recolour_wide_exit(const SkeletonGraph& g, const std::vector<BranchEnd>& exits,
                         const PairingSetup& s, std::vector<BranchTangent>& t) {
-  if (exits.size() != 3 || s.colour_weight <= 0 || s.bgr.empty()) return;
+  if (exits.size() != 3 || s.weights.colour <= 0 || s.bgr.empty()) return;
   for (int w = 0; w < 3; ++w) {
     const float others = std::max(t[(w + 1) % 3].radius, t[(w + 2) % 3].radius);
     if (!t[w].has_colour || !(t[w].radius >= kTwoStrandWidth * others)) continue;
@@ -483,7 +483,7 @@ constexpr float kCurveWeight = 0.25f;
 
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache,
                                     double fold_energy, double unlike_energy, double unlike_fold_energy) {
-  const PairWeights weights = cache.setup().weights();
+  const PairWeights weights = cache.setup().weights;
   // The folds below are weighed by shape: bending energy, and width where it counts.
   const PairWeights shape{0, weights.width};
   // Two DLOs that end inside one crossing region: its least-cost pairing pairs every exit
@@ -690,7 +690,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
   const auto lone_exit = [&](const CrossingRegion& r) {
     const std::vector<BranchTangent> t = cache.of(r.exits);
     std::vector<bool> paired(r.exits.size(), false);
-    for (const auto& [a, b] : min_energy_pairing(t, setup.weights())) paired[a] = paired[b] = true;
+    for (const auto& [a, b] : min_energy_pairing(t, setup.weights)) paired[a] = paired[b] = true;
     for (size_t k = 0; k < paired.size(); ++k)
       if (!paired[k]) return static_cast<int>(k);
     return -1;
@@ -713,7 +713,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     std::vector<BranchEnd> exits = exits_but({&a, &c}, {i});
     if (exits.size() > kMaxExactExits) continue;
     const std::vector<BranchTangent> t = cache.of(exits);
-    const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, setup.weights());
+    const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, setup.weights);
     // Either the strands each Y leaves ending continue each other (together, the two ends
     // pair with each other) ...
     bool joined = false;
@@ -721,7 +721,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     const int la = lone_exit(a), lc = lone_exit(c);
     if (la >= 0 && lc >= 0 && a.exits[la].branch != i && c.exits[lc].branch != i) {
       const BranchEnd ea = a.exits[la], ec = c.exits[lc];
-      cost = pair_cost(cache.of({ea})[0], cache.of({ec})[0], setup.weights());
+      cost = pair_cost(cache.of({ea})[0], cache.of({ec})[0], setup.weights);
       if (cost <= max_cost)
         for (const auto& [x, y] : pairs)
           joined |= (exits[x] == ea && exits[y] == ec) || (exits[x] == ec && exits[y] == ea);
@@ -735,7 +735,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
       double worst = 0;
       for (const auto& [x, y] : pairs) {
         all &= (static_cast<size_t>(x) < from_a) != (static_cast<size_t>(y) < from_a);
-        worst = std::max(worst, pair_cost(t[x], t[y], setup.weights()));
+        worst = std::max(worst, pair_cost(t[x], t[y], setup.weights));
       }
       if (all && worst <= max_cost) joined = true, cost = worst;
     }
@@ -746,7 +746,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     // gain first (its cost is the negative gain).
     if (!joined) {
       const double gain = cache.least_cost(a.exits) + cache.least_cost(c.exits) -
-                          pairing_cost(t, pairs, setup.weights());
+                          pairing_cost(t, pairs, setup.weights);
       if (gain >= min_gain) joined = true, cost = -gain;
     }
     if (joined) candidates.push_back({cost, ra, {rb}, {i}, std::move(exits)});
@@ -783,11 +783,11 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
         const auto part = [n](int k) { return k < 2 ? 0 : k >= n - 2 ? 2 : 1; };
         bool through = true;
         double worst = 0;
-        for (const auto& [u, v] : min_energy_pairing(t, setup.weights())) {
+        for (const auto& [u, v] : min_energy_pairing(t, setup.weights)) {
           const int pu = part(u), pv = part(v);
           if (pu == 1 && pv == 1) continue;
           through &= pu + pv == 2 && pu != 1;
-          worst = std::max(worst, pair_cost(t[u], t[v], setup.weights()));
+          worst = std::max(worst, pair_cost(t[u], t[v], setup.weights));
         }
         if (through && worst <= max_cost) candidates.push_back({worst, m, {ra, rc}, {i, j}, std::move(exits)});
       }

@@ -570,8 +570,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   stage("strands", [&] { return split_side_by_side(graph, mask, config.side_by_side_radii * r); });
   // Exit tangents and colours depend on their own branch only: computed once, on demand,
   // for junction grouping and pairing alike.
-  const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr, config.colour_weight,
-                             config.width_weight};
+  const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr,
+                             {config.colour_weight, config.width_weight}};
   TangentCache tangents(graph, pairing);
   auto regions = stage("junctions", [&] {
     return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,

@@ -292,7 +292,7 @@ Strand strand(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 // The strands `region`'s least-cost pairing makes.
 std::set<Strand> strands_of(const CrossingRegion& region, TangentCache& cache) {
   std::set<Strand> out;
-  for (const auto& [i, j] : min_energy_pairing(cache.of(region.exits), cache.setup().weights()))
+  for (const auto& [i, j] : min_energy_pairing(cache.of(region.exits), cache.setup().weights))
     out.insert(strand(region.exits[i].branch, region.exits[j].branch));
   return out;
 }
@@ -386,7 +386,7 @@ Bundle bundle(bool yellow_end = false) {
 
 TEST(Bending, RegionsThatPairBetterTogetherAreMerged) {
   Bundle b = bundle();
-  const PairingSetup setup{2, 8, b.bgr, 2.0};
+  const PairingSetup setup{2, 8, b.bgr, {2.0}};
   Bundle kept = b;
   TangentCache kept_tangents(kept.graph, setup), tangents(b.graph, setup);
   EXPECT_EQ(merge_regions_by_pairing_cost(kept.graph, kept.regions, kept_tangents, 60, 1000), 0)
@@ -400,7 +400,7 @@ TEST(Bending, RegionsThatPairBetterTogetherAreMerged) {
   ASSERT_EQ(r.inner_branches.size(), 1u);
   EXPECT_FALSE(b.graph.branches[r.inner_branches[0]].alive) << "the link is inside the crossing";
   const std::vector<BranchTangent> t = exit_tangents(b.graph, r.exits, setup);
-  for (const auto& [i, j] : min_energy_pairing(t, setup.weights())) {
+  for (const auto& [i, j] : min_energy_pairing(t, setup.weights)) {
     EXPECT_LT(t[i].direction.dot(t[j].direction), -0.95) << "strands run straight through";
     EXPECT_EQ(colour_penalty(t[i], t[j]), 0);
   }
@@ -440,7 +440,7 @@ EndAlongRod end_along_rod(bool wide) {
 TEST(Bending, AWideExitOfAYTakesItsColourPastWhereItNarrows) {
   for (const bool wide : {true, false}) {
     EndAlongRod s = end_along_rod(wide);
-    const PairingSetup setup{2, 8, s.bgr, 2.0};
+    const PairingSetup setup{2, 8, s.bgr, {2.0}};
     TangentCache tangents(s.graph, setup);
     const std::vector<Passage> passages = build_passages(s.regions, tangents);
     ASSERT_EQ(passages.size(), 1u) << "a Y: one strand through, one ending";
@@ -457,12 +457,12 @@ TEST(Bending, RegionsJoinedByALongLinkMergeForThreeTimesTheGain) {
   // The bundle's link is about 40 px long: beyond max_link = 30 here.
   const auto merges = [](double max_link, double min_gain, double long_link) {
     Bundle b = bundle();
-    const PairingSetup setup{2, 8, b.bgr, 2.0};
+    const PairingSetup setup{2, 8, b.bgr, {2.0}};
     TangentCache tangents(b.graph, setup);
     return merge_regions_by_pairing_cost(b.graph, b.regions, tangents, max_link, min_gain, long_link);
   };
   Bundle b = bundle();
-  const PairingSetup setup{2, 8, b.bgr, 2.0};
+  const PairingSetup setup{2, 8, b.bgr, {2.0}};
   TangentCache tangents(b.graph, setup);
   // Joined, the exits are both regions' but the link's two ends (the branch joining the
   // two junctions).
@@ -507,13 +507,13 @@ TEST(Bending, ThreeRegionsInARowMergeWhenOnlyTogetherTheyPairWell) {
     h.branch(a, m, red);  // the red lies over the blue
     h.branch(m, c, red);
     std::vector<CrossingRegion> regions = h.regions_of({a, m, c});
-    const PairingSetup setup{2, 8, h.bgr, 2.0};
+    const PairingSetup setup{2, 8, h.bgr, {2.0}};
     TangentCache tangents(h.graph, setup);
     *merges = merge_regions_by_pairing_cost(h.graph, regions, tangents, 60, min_gain);
     std::pair<int, int> blue_pair{-1, -1};
     if (regions.size() == 1) {
       const std::vector<BranchTangent> t = exit_tangents(h.graph, regions[0].exits, setup);
-      for (const auto& [i, j] : min_energy_pairing(t, setup.weights())) {
+      for (const auto& [i, j] : min_energy_pairing(t, setup.weights)) {
         const int x = regions[0].exits[i].branch, y = regions[0].exits[j].branch;
         if (x == blue_in || y == blue_in) blue_pair = {std::min(x, y), std::max(x, y)};
         EXPECT_NE(x, purple_end) << "purple ends";
@@ -544,13 +544,13 @@ TEST(Bending, BendJoiningTwoColoursBesideAYMergesIntoIt) {
   h.branch(j1, j2, black);  // the black tip, drawn over the orange
   std::vector<CrossingRegion> regions = h.regions_of({j1, j2});
   ASSERT_EQ(regions[0].exits.size(), 2u);
-  const PairingSetup setup{2, 8, h.bgr, 2.0};
+  const PairingSetup setup{2, 8, h.bgr, {2.0}};
   TangentCache tangents(h.graph, setup);
   ASSERT_EQ(merge_regions_by_pairing_cost(h.graph, regions, tangents, 60, 1.0), 1);
   ASSERT_EQ(regions.size(), 1u);
   ASSERT_EQ(regions[0].exits.size(), 3u);
   const std::vector<BranchTangent> t = exit_tangents(h.graph, regions[0].exits, setup);
-  const auto pairs = min_energy_pairing(t, setup.weights());
+  const auto pairs = min_energy_pairing(t, setup.weights);
   ASSERT_EQ(pairs.size(), 1u);
   const int a = regions[0].exits[pairs[0].first].branch, b = regions[0].exits[pairs[0].second].branch;
   EXPECT_EQ(std::min(a, b), std::min(left, right)) << "the orange runs through";
@@ -562,14 +562,14 @@ TEST(Bending, BendJoiningTwoColoursBesideAYMergesIntoIt) {
 TEST(Bending, RegionWhereAStrandEndsMergesToo) {
   Bundle b = bundle(/*yellow_end=*/true);
   ASSERT_EQ(b.regions[0].exits.size(), 5u);
-  const PairingSetup setup{2, 8, b.bgr, 2.0};
+  const PairingSetup setup{2, 8, b.bgr, {2.0}};
   TangentCache tangents(b.graph, setup);
   ASSERT_EQ(merge_regions_by_pairing_cost(b.graph, b.regions, tangents, 60, 1.0), 1);
   ASSERT_EQ(b.regions.size(), 1u);
   const CrossingRegion& r = b.regions[0];
   ASSERT_EQ(r.exits.size(), 7u);
   const std::vector<BranchTangent> t = exit_tangents(b.graph, r.exits, setup);
-  const auto pairs = min_energy_pairing(t, setup.weights());
+  const auto pairs = min_energy_pairing(t, setup.weights);
   ASSERT_EQ(pairs.size(), 3u);
   std::vector<bool> paired(r.exits.size(), false);
   for (const auto& [i, j] : pairs) {
@@ -598,7 +598,7 @@ TEST(Bending, TwoYsWhoseStrandsBothRunThroughAreOneCrossing) {
   h.branch(y1, y2);
   SkeletonGraph& g = h.graph;
   std::vector<CrossingRegion> regions = h.regions_of({y1, y2});
-  const PairingSetup setup{2, 8, cv::Mat(), 0.0};
+  const PairingSetup setup{2, 8, cv::Mat(), {0.0}};
   TangentCache cache(g, setup);
   // Alone, each Y leaves the strand farther from the link's direction ending.
   for (const auto& [y, ending] : {std::pair{0, b_in}, std::pair{1, a_out}}) {
@@ -641,7 +641,7 @@ TEST(Bending, RegionsEachPairingTheLinkDearlyAreOneCrossing) {
   h.branch(a, c, purple);
   SkeletonGraph& g = h.graph;
   SkeletonGraph untouched = g;  // pair_lone_ys changes a graph only where it joins
-  const PairingSetup setup{2, 8, h.bgr, 4.0};
+  const PairingSetup setup{2, 8, h.bgr, {4.0}};
   // Alone, the left junction leaves blue ending and the right one red.
   {
     TangentCache cache(untouched, setup);
@@ -649,7 +649,7 @@ TEST(Bending, RegionsEachPairingTheLinkDearlyAreOneCrossing) {
     for (const auto& [r, ending] : {std::pair{0, blue_in}, std::pair{1, red_out}}) {
       const std::vector<BranchTangent> t = cache.of(regions[r].exits);
       std::vector<bool> paired(t.size(), false);
-      for (const auto& [i, j] : min_energy_pairing(t, setup.weights())) paired[i] = paired[j] = true;
+      for (const auto& [i, j] : min_energy_pairing(t, setup.weights)) paired[i] = paired[j] = true;
       for (size_t k = 0; k < t.size(); ++k)
         EXPECT_EQ(!paired[k], regions[r].exits[k].branch == ending) << "region " << r << ", exit " << k;
     }
@@ -664,7 +664,7 @@ TEST(Bending, RegionsEachPairingTheLinkDearlyAreOneCrossing) {
   ASSERT_EQ(regions.size(), 1u);
   ASSERT_EQ(regions[0].exits.size(), 6u);
   const std::vector<BranchTangent> t = cache.of(regions[0].exits);
-  const auto pairs = min_energy_pairing(t, setup.weights());
+  const auto pairs = min_energy_pairing(t, setup.weights);
   ASSERT_EQ(pairs.size(), 3u);
   for (const auto& [i, j] : pairs) {
     EXPECT_EQ(colour_penalty(t[i], t[j]), 0) << "every strand keeps its colour";
@@ -697,7 +697,7 @@ TEST(Bending, TwoYsWithACrossingBetweenThemAreOneCrossing) {
   const int white_in = h.branch(h.node({160, 30}, Node::Kind::end), m, white);
   const int white_out = h.branch(m, h.node({160, 170}, Node::Kind::end), white);
   SkeletonGraph& g = h.graph;
-  const PairingSetup setup{2, 8, h.bgr, 4.0};
+  const PairingSetup setup{2, 8, h.bgr, {4.0}};
   {
     SkeletonGraph untouched = g;
     TangentCache cache(untouched, setup);
@@ -749,7 +749,7 @@ TEST(Bending, RegionsJoinedByTwoShortLinksMergeThroughBoth) {
     Eye eye(twins);
     const double length = std::max(eye.h.graph.branches[eye.upper].length, eye.h.graph.branches[eye.lower].length);
     ASSERT_LT(length, 60);
-    const PairingSetup setup{2, 8, eye.h.bgr, 4.0};
+    const PairingSetup setup{2, 8, eye.h.bgr, {4.0}};
     if (twins) {
       SkeletonGraph untouched = eye.h.graph;
       std::vector<CrossingRegion> regions = eye.regions;
@@ -804,7 +804,7 @@ TwoEnds two_ends_on_a_rod(double first, double second, const cv::Scalar& first_c
 }
 
 // Tangents fitted over 20 px with colour: the stub is shorter than a fit.
-PairingSetup two_ends_setup(const TwoEnds& s) { return {2, 20, s.bgr, 2.0}; }
+PairingSetup two_ends_setup(const TwoEnds& s) { return {2, 20, s.bgr, {2.0}}; }
 
 // Whether build_passages joins the two DLOs ending at the junction into one strand.
 bool ends_joined(const TwoEnds& s, double unlike_energy) {
@@ -872,7 +872,7 @@ bool two_exits_joined(double turn, const cv::Scalar& a, const cv::Scalar& b, dou
   h.branch(h.node({30, 100}, Node::Kind::end), j, a);
   h.branch(j, h.node(c + cv::Point(cvRound(70 * std::cos(out)), cvRound(-70 * std::sin(out))), Node::Kind::end), b);
   const std::vector<CrossingRegion> regions = h.regions_of({j});
-  const PairingSetup setup{2, 20, h.bgr, 2.0};
+  const PairingSetup setup{2, 20, h.bgr, {2.0}};
   TangentCache tangents(h.graph, setup);
   return !build_passages(regions, tangents, 4.0, 4.0, unlike_fold_energy).empty();
 }

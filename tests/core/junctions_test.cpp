@@ -16,7 +16,7 @@ std::vector<CrossingRegion> regions_of(const cv::Mat& mask, bool by_cost = true)
   SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
   const float r = measure_radii(g, mask);
   prune_split_ends(g, 2 * r, mask.size());
-  const PairingSetup setup{r, 3.0 * r, cv::Mat(), 0};
+  const PairingSetup setup{r, 3.0 * r, cv::Mat(), {0}};
   TangentCache tangents(g, setup);
   ExitsCost cost;
   if (by_cost) cost = [&](const std::vector<BranchEnd>& exits) { return tangents.least_cost(exits); };

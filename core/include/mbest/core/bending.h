@@ -125,14 +125,12 @@ struct Passage {
 
 // How exits are summarised and paired: tangents skip `cut_length` px next to the crossing
 // and are fitted over the next `fit_length` px; with an image (`bgr` not empty, the mask's
-// size) and `colour_weight` > 0, exits of different colour are paired reluctantly
-// (colour_penalty); with `width_weight` > 0, so are exits of unlike width (width_penalty).
+// size) and `weights.colour` > 0, exits of different colour are paired reluctantly
+// (colour_penalty); with `weights.width` > 0, so are exits of unlike width (width_penalty).
 struct PairingSetup {
   double cut_length = 0, fit_length = 0;
   cv::Mat bgr;
-  double colour_weight = 0;
-  double width_weight = 0;
-  PairWeights weights() const { return {colour_weight, width_weight}; }
+  PairWeights weights;
 };
 
 // The cost of pairing two exits: their mean bending energy both ways plus the weighted
