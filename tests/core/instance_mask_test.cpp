@@ -126,6 +126,39 @@ TEST(InstanceMask, ZoneOfTwoStrandsLeavesAThirdDlosPixelsAlone) {
   }
 }
 
+// The band drawn right (red DLO 0 above, blue DLO 1 below), with blue specks in the red.
+struct DrawnBand : Band {
+  ColourZone zone;
+  DrawnBand() {
+    labels(cv::Rect(10, 20, 60, 10)).setTo(2);
+    for (int x = 10; x < 50; x += 2) zone.discs.push_back({cv::Point(x, 20), 11.0f});
+    zone.colours = {{0, lab_of({40, 40, 200})}, {1, lab_of({200, 90, 30})}};
+  }
+  void speck(cv::Rect r) { bgr(r).setTo(cv::Scalar(200, 90, 30)); }
+};
+
+TEST(InstanceMask, ColourOfAPixelIsReadOverItsNeighbourhood) {
+  // One noisy pixel on the red strand's edge, beside the blue strand: its neighbours are
+  // red, so it stays red (alone it would go to the blue DLO, whose pixels it touches).
+  DrawnBand b;
+  b.speck({20, 19, 1, 1});
+  refine_labels_by_colour(b.labels, b.mask, b.bgr, {b.zone}, 10, 30);
+  EXPECT_EQ(b.labels.at<uint16_t>(19, 20), 1);
+  EXPECT_EQ(b.labels.at<uint16_t>(20, 20), 2);
+}
+
+TEST(InstanceMask, AFewRelabelledPixelsCutOffFromTheirDloGoBack) {
+  DrawnBand b;
+  b.speck({20, 11, 3, 3});  // a 3 x 3 blue speck inside the red strand: 5 px after the median
+  b.speck({40, 17, 3, 3});  // the same, touching the blue strand
+  b.speck({44, 11, 4, 4});  // a 4 x 4 speck inside the red strand: 12 px after the median
+  refine_labels_by_colour(b.labels, b.mask, b.bgr, {b.zone}, 10, 30);
+  EXPECT_EQ(b.labels.at<uint16_t>(12, 21), 1) << "cut off from the blue DLO and small: back";
+  EXPECT_EQ(b.labels.at<uint16_t>(18, 41), 2) << "joined to the blue DLO's pixels: kept";
+  EXPECT_EQ(b.labels.at<uint16_t>(12, 45), 2) << "cut off but larger: kept";
+  EXPECT_EQ(b.labels.at<uint16_t>(15, 30), 1);
+}
+
 TEST(InstanceMask, ColourLeavesLabelsAloneWhenItCannotTellTheDlosApart) {
   ColourZone z;
   for (int x = 10; x < 70; x += 2) z.discs.push_back({cv::Point(x, 20), 11.0f});

@@ -47,8 +47,10 @@ struct ColourZone {
 // told apart from it plainly, even where the grey is near the white of a third DLO there.
 // Other pixels keep their label: glare, edges blended with the background, DLOs of one
 // colour, and a DLO paired wrongly through the crossing (it carries both strands' colours,
-// so neither wins). `labels` as instance_labels returns it; `bgr` CV_8UC3 of the mask's
-// size (nothing happens when it is empty).
+// so neither wins). A pixel's colour is read as the median of its 3 x 3 neighbourhood, and
+// a few relabelled pixels cut off from the rest of their new DLO are given back (noise, or a
+// blend of two DLOs' colours nearest a third). `labels` as instance_labels returns it; `bgr`
+// CV_8UC3 of the mask's size (nothing happens when it is empty).
 void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat& bgr,
                              const std::vector<ColourZone>& zones, double margin,
                              double max_distance);
