@@ -136,7 +136,7 @@ struct DetectorConfig {
   // With the colour image and colour_weight > 0: inside a crossing region, a mask pixel goes
   // to the DLO whose colour it shows when that DLO's colour is nearer by at least this (Lab
   // units, lightness counted half) than the colour of the DLO the pixel was drawn for, and
-  // within three times this (instance_mask.h, refine_labels_by_colour). 0 turns it off.
+  // within five times this (instance_mask.h, refine_labels_by_colour). 0 turns it off.
   double colour_label_margin = 10.0;
   // A branch carrying two strands side by side over at least this long (two DLOs lying
   // along each other, or one ending along another) is split into one branch per strand
