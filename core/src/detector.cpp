@@ -24,11 +24,11 @@ namespace mbest {
 namespace {
 
 // Colour labels (refine_labels_by_colour): a pixel goes to a DLO only when its colour lies
-// within this many times colour_label_margin of that DLO's (farther, it is glare, shadow or
+// within this many times colour_label_margin of that DLO's (farther, it is glare or
 // background blended in). 3 until 2026-12-06; once colours were read as a 3 x 3 median,
 // 4.5, 5 and 6 scored alike on the nine synthetic seed sets (`stress` pairing failures
-// 2878 -> 2804, 2781, 2769; strict DICE +0.15 points; outside `stress` unchanged within one
-// crossing) and 10 broke two crossings at 20-45 degrees on the held-out pair.
+// 2878 -> 2804, 2781, 2769; strict DICE +0.16-0.18 points; outside `stress` unchanged
+// within one crossing) and 10 broke two crossings at 20-45 degrees on the held-out pair.
 constexpr double kColourLabelReach = 5;
 
 // Runs one stage and records its wall time under `name`.

@@ -172,12 +172,10 @@ constexpr size_t kMaxIsland = 6;
 
 // Restores the pieces (8-connected) of relabelled pixels that are cut off from the rest of
 // their new DLO and small: a pixel blended of two DLOs' colours, or one of a DLO's pixels
-// that sensor noise pushed past the margin, lies nearest a third DLO alone. `index` (CV_32S
-// over `area`, which holds every relabelled pixel and a ring of one around them) holds each
-// relabelled pixel's place in `changed` + 1, else 0.
-void restore_islands(cv::Mat& labels, const std::vector<Relabel>& changed, cv::Mat& index,
-                     const cv::Rect& area) {
-  index = cv::Mat::zeros(area.size(), CV_32S);
+// that sensor noise pushed past the margin, lies nearest a third DLO alone. `area` holds
+// every relabelled pixel and a ring of one around them.
+void restore_islands(cv::Mat& labels, const std::vector<Relabel>& changed, const cv::Rect& area) {
+  cv::Mat index = cv::Mat::zeros(area.size(), CV_32S);  // place in `changed` + 1, else 0
   for (size_t i = 0; i < changed.size(); ++i) index.at<int>(changed[i].at - area.tl()) = static_cast<int>(i) + 1;
   std::vector<char> seen(changed.size(), 0);
   std::vector<size_t> piece;
@@ -211,7 +209,7 @@ void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat
                              double max_distance) {
   if (bgr.empty() || margin <= 0) return;
   const cv::Rect image(0, 0, mask.cols, mask.rows);
-  cv::Mat zone, smooth, samples, lab, index;
+  cv::Mat zone, smooth, samples, lab;
   std::vector<int> dlos;
   std::vector<cv::Point> at;
   std::vector<float> nearest;
@@ -284,7 +282,7 @@ void refine_labels_by_colour(cv::Mat& labels, const cv::Mat& mask, const cv::Mat
         label = to;
       }
     }
-    if (!changed.empty()) restore_islands(labels, changed, index, around);
+    if (!changed.empty()) restore_islands(labels, changed, around);
   }
 }
 
