@@ -28,7 +28,8 @@ namespace {
 // background blended in). 3 until 2026-12-06; once colours were read as a 3 x 3 median,
 // 4.5, 5 and 6 scored alike on the nine synthetic seed sets (`stress` pairing failures
 // 2878 -> 2804, 2781, 2769; strict DICE +0.16-0.18 points; outside `stress` unchanged
-// within one crossing) and 10 broke two crossings at 20-45 degrees on the held-out pair.
+// within one crossing) and 10 broke two crossings at 20-45 degrees on the held-out pair
+// (all with colour_label_margin 10; with its default of 8 since, the reach is 40 units).
 constexpr double kColourLabelReach = 5;
 
 // Runs one stage and records its wall time under `name`.
