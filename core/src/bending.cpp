@@ -342,6 +342,24 @@ std::vector<std::pair<int, int>> least_cost_pairing(const std::vector<std::vecto
 
 }  // namespace
 
+void add_loop_closing_costs(std::vector<std::vector<double>>& costs,
+                            const std::vector<BranchTangent>& tangents,
+                            const std::vector<BranchEnd>& exits, double weight) {
+  if (weight <= 0) return;
+  const size_t n = exits.size();
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = a + 1; b < n; ++b) {
+      if (exits[a].branch != exits[b].branch) continue;
+      bool ring = tangents[a].has_colour;
+      for (size_t c = 0; c < n && ring; ++c)
+        ring = exits[c].branch == exits[a].branch || !tangents[c].has_colour ||
+               colour_distance(tangents[a].colour, tangents[c].colour) > kColourTolerance;
+      if (ring) continue;
+      costs[a][b] += weight;
+      costs[b][a] += weight;
+    }
+}
+
 std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
                                                     PairWeights weights) {
   const int n = static_cast<int>(exits.size());
@@ -349,6 +367,18 @@ std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTang
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b)
       e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], weights);
+  return least_cost_pairing(e);
+}
+
+std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
+                                                    const std::vector<BranchEnd>& ends,
+                                                    PairWeights weights) {
+  const int n = static_cast<int>(exits.size());
+  std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], weights);
+  add_loop_closing_costs(e, exits, ends, weights.loop);
   return least_cost_pairing(e);
 }
 
@@ -398,6 +428,7 @@ std::vector<std::vector<double>> TangentCache::pair_costs(const std::vector<Bran
         known = pair_costs_.emplace(key, pair_cost(t[a], t[b], setup_.weights)).first;
       e[a][b] = e[b][a] = known->second;
     }
+  add_loop_closing_costs(e, t, exits, setup_.weights.loop);
   return e;
 }
 
@@ -500,7 +531,7 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
     if (tangents.size() == 2 && (pair_cost(tangents[0], tangents[1], shape) > fold_energy ||
                                  unlike(tangents[0], tangents[1], unlike_fold_energy)))
       continue;
-    for (const auto& [i, j] : min_energy_pairing(tangents, weights)) {
+    for (const auto& [i, j] : min_energy_pairing(tangents, region.exits, weights)) {
       if (unlike(tangents[i], tangents[j], unlike_energy)) continue;  // both strands end here
       Passage p;
       p.region = r;
@@ -690,7 +721,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
   const auto lone_exit = [&](const CrossingRegion& r) {
     const std::vector<BranchTangent> t = cache.of(r.exits);
     std::vector<bool> paired(r.exits.size(), false);
-    for (const auto& [a, b] : min_energy_pairing(t, setup.weights)) paired[a] = paired[b] = true;
+    for (const auto& [a, b] : min_energy_pairing(t, r.exits, setup.weights)) paired[a] = paired[b] = true;
     for (size_t k = 0; k < paired.size(); ++k)
       if (!paired[k]) return static_cast<int>(k);
     return -1;
@@ -713,7 +744,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     std::vector<BranchEnd> exits = exits_but({&a, &c}, {i});
     if (exits.size() > kMaxExactExits) continue;
     const std::vector<BranchTangent> t = cache.of(exits);
-    const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, setup.weights);
+    const std::vector<std::pair<int, int>> pairs = min_energy_pairing(t, exits, setup.weights);
     // Either the strands each Y leaves ending continue each other (together, the two ends
     // pair with each other) ...
     bool joined = false;
@@ -783,7 +814,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
         const auto part = [n](int k) { return k < 2 ? 0 : k >= n - 2 ? 2 : 1; };
         bool through = true;
         double worst = 0;
-        for (const auto& [u, v] : min_energy_pairing(t, setup.weights)) {
+        for (const auto& [u, v] : min_energy_pairing(t, exits, setup.weights)) {
           const int pu = part(u), pv = part(v);
           if (pu == 1 && pv == 1) continue;
           through &= pu + pv == 2 && pu != 1;

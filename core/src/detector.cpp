@@ -490,6 +490,7 @@ constexpr ConfigField kConfigFields[] = {
     {"through_radii", &DetectorConfig::through_radii, 0, 1000},
     {"colour_weight", &DetectorConfig::colour_weight, 0, 100},
     {"width_weight", &DetectorConfig::width_weight, 0, 100},
+    {"loop_closing_cost", &DetectorConfig::loop_closing_cost, 0, 1000},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
@@ -580,7 +581,7 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   // Exit tangents and colours depend on their own branch only: computed once, on demand,
   // for junction grouping and pairing alike.
   const PairingSetup pairing{config.cut_radii * r, config.fit_radii * r, bgr,
-                             {config.colour_weight, config.width_weight}};
+                             {config.colour_weight, config.width_weight, config.loop_closing_cost}};
   TangentCache tangents(graph, pairing);
   auto regions = stage("junctions", [&] {
     return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,

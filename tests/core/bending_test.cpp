@@ -251,6 +251,41 @@ TEST(Bending, ColourDecidesBetweenPairingsGeometryCannotTellApart) {
   EXPECT_EQ(min_energy_pairing(grey, {2.0}), plain);
 }
 
+TEST(Bending, TheTwoEndsOfOneBranchCloseIntoARingOnlyAtACost) {
+  // A self-loop lying along its own rod: exits 0 and 1 are the two ends of the loop's
+  // branch, 2 and 3 the rod's ways in and out, 10 degrees off the loop's. By bending alone
+  // the loop closes straight through the crossing and the rod runs straight on beside it.
+  const std::vector<BranchTangent> exits{exit_at(0), exit_at(180), exit_at(10), exit_at(190)};
+  const std::vector<BranchEnd> ends{{7, 0}, {7, 1}, {3, 0}, {4, 1}};
+  const auto closes = [](const std::vector<std::pair<int, int>>& pairs) {
+    return std::any_of(pairs.begin(), pairs.end(), [](auto p) { return std::min(p.first, p.second) == 0 &&
+                                                                       std::max(p.first, p.second) == 1; });
+  };
+  ASSERT_TRUE(closes(min_energy_pairing(exits)));
+  ASSERT_TRUE(closes(min_energy_pairing(exits, ends, {})));
+  PairWeights loop;
+  loop.loop = 10;
+  EXPECT_FALSE(closes(min_energy_pairing(exits, ends, loop))) << "the rod runs through its loop";
+  // Exits of different branches pay nothing: the same exits on four branches pair as before.
+  EXPECT_TRUE(closes(min_energy_pairing(exits, {{7, 0}, {8, 1}, {3, 0}, {4, 1}}, loop)));
+  // A loop whose colour no other exit shares is a ring of its own: it closes.
+  const cv::Vec3f red{50, 60, 40}, blue{40, 10, -50};
+  std::vector<BranchTangent> ring{coloured(exits[0], red), coloured(exits[1], red),
+                                  coloured(exits[2], blue), coloured(exits[3], blue)};
+  loop.colour = 4;
+  EXPECT_TRUE(closes(min_energy_pairing(ring, ends, loop)));
+  // One of the rod's exits of the loop's colour: the loop may be the rod's.
+  ring[3].colour = red;
+  EXPECT_FALSE(closes(min_energy_pairing(ring, ends, loop)));
+  // The cost counts in the cache's pair costs too, which junction grouping compares.
+  std::vector<std::vector<double>> costs(4, std::vector<double>(4, 1.0));
+  add_loop_closing_costs(costs, exits, ends, 10);
+  EXPECT_EQ(costs[0][1], 11.0);
+  EXPECT_EQ(costs[1][0], 11.0);
+  EXPECT_EQ(costs[2][3], 1.0);
+  EXPECT_EQ(costs[0][2], 1.0);
+}
+
 BranchTangent with_radius(BranchTangent t, float radius) {
   t.radius = radius;
   return t;

@@ -98,7 +98,24 @@ double width_penalty(const BranchTangent& a, const BranchTangent& b);
 struct PairWeights {
   double colour = 0;
   double width = 0;
+  // What pairing the two ends of one branch costs (a strand that leaves a crossing and
+  // comes back to it: the pair closes it into a ring), added to their cost, unless colour
+  // says the branch is a DLO of its own (loop_closing_cost). Only where the pairing knows
+  // its exits' branches (the overload of min_energy_pairing with `ends`, TangentCache).
+  double loop = 0;
 };
+
+// What closing a loop at a crossing costs: a rod that crosses itself leaves the crossing
+// and comes back to it along one branch, as does a ring touching other DLOs at one crossing
+// only; when the crossing is shallow or its strands lie along each other for a stretch,
+// pairing the branch's two ends with each other (a ring) and the rod's two other exits
+// with each other bends hardly more than the rod's true path. Rings are the rarer, and
+// coloured ones show it: `weight` is added to the cost of pairing the two ends of a branch
+// unless the branch has a colour and no exit of another branch shares it (within
+// kColourTolerance). Adds to `costs` (the pair costs of `exits`, symmetric).
+void add_loop_closing_costs(std::vector<std::vector<double>>& costs,
+                            const std::vector<BranchTangent>& tangents,
+                            const std::vector<BranchEnd>& exits, double weight);
 
 // The pairing of exits (indices into `exits`) with the least total cost: bending energy
 // plus the weighted colour and width penalties. With an odd number of exits one is left
@@ -108,6 +125,10 @@ struct PairWeights {
 inline constexpr int kMaxExactExits = 24;
 std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
                                                     PairWeights weights = {});
+// The same, `ends` naming each exit's branch end (weights.loop counts).
+std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
+                                                    const std::vector<BranchEnd>& ends,
+                                                    PairWeights weights);
 
 }  // namespace mbest
 
