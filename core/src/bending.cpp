@@ -533,25 +533,30 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
       continue;
     for (const auto& [i, j] : min_energy_pairing(tangents, region.exits, weights)) {
       if (unlike(tangents[i], tangents[j], unlike_energy)) continue;  // both strands end here
-      Passage p;
-      p.region = r;
-      p.from = region.exits[i];
-      p.to = region.exits[j];
-      p.from_tangent = tangents[i];
-      p.to_tangent = tangents[j];
-      p.energy = bending_energy(tangents[i], tangents[j]);
-      p.path = hermite_path(tangents[i].point, -tangents[i].path_direction, tangents[j].point,
-                            tangents[j].path_direction);
-      const size_t n = p.path.size();
-      p.radius.resize(n);
-      for (size_t k = 0; k < n; ++k) {
-        const float t = n > 1 ? static_cast<float>(k) / static_cast<float>(n - 1) : 0.f;
-        p.radius[k] = tangents[i].radius * (1 - t) + tangents[j].radius * t;
-      }
-      passages.push_back(std::move(p));
+      passages.push_back(make_passage(r, region.exits[i], tangents[i], region.exits[j], tangents[j]));
     }
   }
   return passages;
+}
+
+Passage make_passage(int region, BranchEnd from, const BranchTangent& from_tangent, BranchEnd to,
+                     const BranchTangent& to_tangent) {
+  Passage p;
+  p.region = region;
+  p.from = from;
+  p.to = to;
+  p.from_tangent = from_tangent;
+  p.to_tangent = to_tangent;
+  p.energy = bending_energy(from_tangent, to_tangent);
+  p.path = hermite_path(from_tangent.point, -from_tangent.path_direction, to_tangent.point,
+                        to_tangent.path_direction);
+  const size_t n = p.path.size();
+  p.radius.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const float t = n > 1 ? static_cast<float>(k) / static_cast<float>(n - 1) : 0.f;
+    p.radius[k] = from_tangent.radius * (1 - t) + to_tangent.radius * t;
+  }
+  return p;
 }
 
 int keep_passages_on_mask(std::vector<Passage>& passages, const cv::Mat& mask, float r,

@@ -491,6 +491,7 @@ constexpr ConfigField kConfigFields[] = {
     {"colour_weight", &DetectorConfig::colour_weight, 0, 100},
     {"width_weight", &DetectorConfig::width_weight, 0, 100},
     {"loop_closing_cost", &DetectorConfig::loop_closing_cost, 0, 1000},
+    {"loop_reopen_cost", &DetectorConfig::loop_reopen_cost, 0, 1000},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
@@ -599,7 +600,14 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     return built;
   });
   Traversal traversal = stage("traverse", [&] {
-    return traverse(graph, passages, config.min_dlo_length_radii * r);
+    Traversal t = traverse(graph, passages, config.min_dlo_length_radii * r);
+    // Each re-pairing makes one closed DLO part of an open one.
+    for (size_t k = t.dlos.size();
+         k > 0 && open_closed_loops(passages, t, pairing.weights, config.loop_reopen_cost); --k) {
+      keep_passages_on_mask(passages, mask, r, kMaxOffMask);
+      t = traverse(graph, passages, config.min_dlo_length_radii * r);
+    }
+    return t;
   });
   stage("extend_ends", [&] {
     extend_ends(traversal.dlos, mask, r);

@@ -133,6 +133,50 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
   return t;
 }
 
+bool open_closed_loops(std::vector<Passage>& passages, const Traversal& t, PairWeights weights,
+                       double max_cost) {
+  if (max_cost <= 0) return false;
+  weights.loop = 0;
+  const auto cost = [&](const BranchTangent& a, const BranchTangent& b) { return pair_cost(a, b, weights); };
+  const auto far = [](const BranchTangent& a, const BranchTangent& b) {
+    return a.has_colour && b.has_colour && colour_distance(a.colour, b.colour) > kColourTolerance;
+  };
+  double best = max_cost;
+  int best_p = -1, best_q = -1;
+  bool crossed = false;  // from-from and to-to (else from-to and to-from)
+  for (size_t d = 0; d < t.dlos.size(); ++d) {
+    if (!t.dlos[d].closed) continue;
+    for (int p : t.dlo_passages[d]) {
+      const Passage& lp = passages[p];
+      for (int q = 0; q < static_cast<int>(passages.size()); ++q) {
+        const Passage& op = passages[q];
+        const int o = t.passage_dlo[q];
+        if (op.region != lp.region || o < 0 || t.dlos[o].closed) continue;
+        if (far(lp.from_tangent, op.from_tangent) && far(lp.from_tangent, op.to_tangent)) continue;
+        const double before = cost(lp.from_tangent, lp.to_tangent) + cost(op.from_tangent, op.to_tangent);
+        const double same = cost(lp.from_tangent, op.from_tangent) + cost(lp.to_tangent, op.to_tangent) - before;
+        const double swapped = cost(lp.from_tangent, op.to_tangent) + cost(lp.to_tangent, op.from_tangent) - before;
+        if (std::min(same, swapped) <= best) {
+          best = std::min(same, swapped);
+          best_p = p;
+          best_q = q;
+          crossed = same <= swapped;
+        }
+      }
+    }
+  }
+  if (best_p < 0) return false;
+  const Passage lp = passages[best_p], op = passages[best_q];
+  if (crossed) {
+    passages[best_p] = make_passage(lp.region, lp.from, lp.from_tangent, op.from, op.from_tangent);
+    passages[best_q] = make_passage(lp.region, lp.to, lp.to_tangent, op.to, op.to_tangent);
+  } else {
+    passages[best_p] = make_passage(lp.region, lp.from, lp.from_tangent, op.to, op.to_tangent);
+    passages[best_q] = make_passage(lp.region, lp.to, lp.to_tangent, op.from, op.from_tangent);
+  }
+  return true;
+}
+
 namespace {
 
 // Extends `line` (and `radius`) beyond its last pixel; see extend_ends.

@@ -35,9 +35,11 @@ TEST(SuiteScenes, ASelfLoopLyingAlongItsRodStaysPartOfTheRod) {
   const Result<validate::DiceScore> dice = validate::matched_dice(s.render.labels, d.value().labels);
   ASSERT_TRUE(dice.ok());
   for (double v : dice.value().matched_dice) EXPECT_GE(v, 0.97);
-  // Without the cost of closing a loop, the loop is a ring: the case this test is for.
+  // Without the cost of closing a loop (nor re-pairing closed DLOs after), the loop is a
+  // ring: the case this test is for.
   DetectorConfig no_loop_cost;
   no_loop_cost.loop_closing_cost = 0;
+  no_loop_cost.loop_reopen_cost = 0;
   EXPECT_EQ(detect(mask, s.render.image, no_loop_cost).value().dlos.size(), 3u);
 }
 
@@ -55,6 +57,46 @@ TEST(SuiteScenes, ARingOfItsOwnColourTouchingOneCrossingStaysARing) {
   for (const Dlo& dlo : d.value().dlos) closed += dlo.closed;
   EXPECT_EQ(closed, 1);
   EXPECT_EQ(d.value().dlos.size(), s.annotation.rods.size());
+}
+
+// `accuracy-suite.sh out/fresh-9000 200 9000`, s1 scene 000138: a lone rod makes a loop
+// through which it passes, crossing itself twice. The pairing of each crossing alone closed
+// the loop into a ring, the rod running on straight through it.
+TEST(SuiteScenes, ALoneRodsLoopThroughWhichItPassesIsNoRing) {
+  const synth::GeneratedScene s = scene("s1", 9001, 138);
+  ASSERT_EQ(s.annotation.rods.size(), 1u);
+  const cv::Mat mask = s.render.labels > 0;
+  const Result<Detection> d = detect(mask, s.render.image);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  ASSERT_EQ(d.value().dlos.size(), 1u);
+  EXPECT_FALSE(d.value().dlos[0].closed);
+  const Result<validate::DiceScore> dice = validate::matched_dice(s.render.labels, d.value().labels);
+  ASSERT_TRUE(dice.ok());
+  EXPECT_GE(dice.value().matched_dice[0], 0.97);
+  DetectorConfig no_reopening;
+  no_reopening.loop_reopen_cost = 0;
+  EXPECT_EQ(detect(mask, s.render.image, no_reopening).value().dlos.size(), 2u);
+}
+
+// `accuracy-suite.sh out/fresh-9000 200 9000`, stress scene 000052: a ring of nearly the
+// colour of a rod it crosses twice (RGB 24, 113, 86 and 32, 120, 94). Joining the ring to
+// a DLO it crosses costs more than loop_reopen_cost allows; a larger allowance merges it.
+TEST(SuiteScenes, ARingOfARodsColourLyingAcrossItStaysARing) {
+  const synth::GeneratedScene s = scene("stress", 9005, 52);
+  ASSERT_EQ(s.annotation.rods.size(), 4u);
+  ASSERT_TRUE(s.annotation.rods[3].closed);
+  const cv::Mat mask = s.render.labels > 0;
+  const auto closed = [&](const DetectorConfig& config) {
+    const Result<Detection> d = detect(mask, s.render.image, config);
+    EXPECT_TRUE(d.ok());
+    int n = 0;
+    for (const Dlo& dlo : d.value().dlos) n += dlo.closed;
+    return n;
+  };
+  EXPECT_EQ(closed(DetectorConfig()), 1);
+  DetectorConfig lenient;
+  lenient.loop_reopen_cost = 10;
+  EXPECT_EQ(closed(lenient), 0);
 }
 
 }  // namespace

@@ -266,6 +266,11 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
                                     double unlike_energy = std::numeric_limits<double>::infinity(),
                                     double unlike_fold_energy = std::numeric_limits<double>::infinity());
 
+// The passage joining exit `from` to exit `to` of crossing region `region`: a Hermite curve
+// between the two attachment points, along their path directions, radii interpolated.
+Passage make_passage(int region, BranchEnd from, const BranchTangent& from_tangent, BranchEnd to,
+                     const BranchTangent& to_tangent);
+
 // Keeps each passage's path on the mask. build_passages draws a passage as a Hermite curve
 // between its two exits, which is the strand's course through an ordinary crossing; but
 // across a long region (Y-pairs and merged regions joined by links up to wide_radii) the

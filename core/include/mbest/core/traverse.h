@@ -22,6 +22,19 @@ struct Traversal {
 Traversal traverse(const SkeletonGraph& graph, const std::vector<Passage>& passages,
                    double min_length);
 
+// A rod's self-loop that crosses the rod (or other DLOs) may be closed into a ring at one
+// of those crossings, the rod running on beside it: each crossing's pairing alone cannot
+// tell (add_loop_closing_costs covers a loop of one branch). For each closed DLO of `t`
+// that runs through a crossing region, finds the least costly re-pairing of one of its
+// passages there with one of an open DLO's (either way round, by pair_cost under
+// `weights` without the loop cost) that makes the loop part of that DLO. Makes the
+// cheapest, if it costs at most `max_cost` more than the two passages did and the loop's
+// colour is not that of a ring of its own (its exit's colour further than kColourTolerance
+// from both of the open DLO's exits). One loop at a time: returns true when `passages`
+// changed (traverse again).
+bool open_closed_loops(std::vector<Passage>& passages, const Traversal& t, PairWeights weights,
+                       double max_cost);
+
 // Thinning leaves a skeleton end about a radius short of the DLO's tip, and bent towards a
 // corner of a flat tip over its last r px. Replaces those r px of each end of an open DLO
 // by a straight run along the chord from 3 r to r px before the end, through `mask`, at
