@@ -360,24 +360,29 @@ void add_loop_closing_costs(std::vector<std::vector<double>>& costs,
     }
 }
 
-std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
-                                                    PairWeights weights) {
+namespace {
+
+std::vector<std::vector<double>> pair_cost_matrix(const std::vector<BranchTangent>& exits,
+                                                  PairWeights weights) {
   const int n = static_cast<int>(exits.size());
   std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b)
       e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], weights);
-  return least_cost_pairing(e);
+  return e;
+}
+
+}  // namespace
+
+std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
+                                                    PairWeights weights) {
+  return least_cost_pairing(pair_cost_matrix(exits, weights));
 }
 
 std::vector<std::pair<int, int>> min_energy_pairing(const std::vector<BranchTangent>& exits,
                                                     const std::vector<BranchEnd>& ends,
                                                     PairWeights weights) {
-  const int n = static_cast<int>(exits.size());
-  std::vector<std::vector<double>> e(n, std::vector<double>(n, 0));
-  for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b)
-      e[a][b] = e[b][a] = pair_cost(exits[a], exits[b], weights);
+  std::vector<std::vector<double>> e = pair_cost_matrix(exits, weights);
   add_loop_closing_costs(e, exits, ends, weights.loop);
   return least_cost_pairing(e);
 }

@@ -20,6 +20,28 @@ synth::GeneratedScene scene(const std::string& preset, std::uint64_t seed, int i
   return std::move(s).value();
 }
 
+// The detector's result on the scene's ground-truth mask and picture.
+Detection detected(const synth::GeneratedScene& s, const DetectorConfig& config = DetectorConfig()) {
+  Result<Detection> d = detect(s.render.labels > 0, s.render.image, config);
+  EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().message);
+  return d.ok() ? std::move(d).value() : Detection();
+}
+
+int closed_dlos(const Detection& d) {
+  int n = 0;
+  for (const Dlo& dlo : d.dlos) n += dlo.closed;
+  return n;
+}
+
+// Every rod of the scene is one open DLO, found whole (matched DICE at least 0.97).
+void expect_each_rod_one_open_dlo(const synth::GeneratedScene& s, const Detection& d) {
+  ASSERT_EQ(d.dlos.size(), s.annotation.rods.size());
+  EXPECT_EQ(closed_dlos(d), 0);
+  const Result<validate::DiceScore> dice = validate::matched_dice(s.render.labels, d.labels);
+  ASSERT_TRUE(dice.ok());
+  for (double v : dice.value().matched_dice) EXPECT_GE(v, 0.97);
+}
+
 // `accuracy-suite.sh out/fresh-17000 200 17000`, s2 scene 000156: a rod crosses another,
 // then makes a self-loop that lies along itself where it crosses itself at 41 degrees.
 // Pairing the loop's two ends with each other and the rod's way in with its way out bent
@@ -27,20 +49,13 @@ synth::GeneratedScene scene(const std::string& preset, std::uint64_t seed, int i
 TEST(SuiteScenes, ASelfLoopLyingAlongItsRodStaysPartOfTheRod) {
   const synth::GeneratedScene s = scene("s2", 17002, 156);
   ASSERT_EQ(s.annotation.rods.size(), 2u);
-  const cv::Mat mask = s.render.labels > 0;
-  const Result<Detection> d = detect(mask, s.render.image);
-  ASSERT_TRUE(d.ok()) << d.error().message;
-  ASSERT_EQ(d.value().dlos.size(), 2u);
-  for (const Dlo& dlo : d.value().dlos) EXPECT_FALSE(dlo.closed);
-  const Result<validate::DiceScore> dice = validate::matched_dice(s.render.labels, d.value().labels);
-  ASSERT_TRUE(dice.ok());
-  for (double v : dice.value().matched_dice) EXPECT_GE(v, 0.97);
+  expect_each_rod_one_open_dlo(s, detected(s));
   // Without the cost of closing a loop (nor re-pairing closed DLOs after), the loop is a
   // ring: the case this test is for.
   DetectorConfig no_loop_cost;
   no_loop_cost.loop_closing_cost = 0;
   no_loop_cost.loop_reopen_cost = 0;
-  EXPECT_EQ(detect(mask, s.render.image, no_loop_cost).value().dlos.size(), 3u);
+  EXPECT_EQ(detected(s, no_loop_cost).dlos.size(), 3u);
 }
 
 // `accuracy-suite.sh out/fresh-15000 200 15000`, stress scene 000071: a ring of its own
@@ -51,12 +66,9 @@ TEST(SuiteScenes, ARingOfItsOwnColourTouchingOneCrossingStaysARing) {
   int rings = 0;
   for (const auto& rod : s.annotation.rods) rings += rod.closed;
   ASSERT_EQ(rings, 1);
-  const Result<Detection> d = detect(s.render.labels > 0, s.render.image);
-  ASSERT_TRUE(d.ok()) << d.error().message;
-  int closed = 0;
-  for (const Dlo& dlo : d.value().dlos) closed += dlo.closed;
-  EXPECT_EQ(closed, 1);
-  EXPECT_EQ(d.value().dlos.size(), s.annotation.rods.size());
+  const Detection d = detected(s);
+  EXPECT_EQ(closed_dlos(d), 1);
+  EXPECT_EQ(d.dlos.size(), s.annotation.rods.size());
 }
 
 // `accuracy-suite.sh out/fresh-9000 200 9000`, s1 scene 000138: a lone rod makes a loop
@@ -65,17 +77,10 @@ TEST(SuiteScenes, ARingOfItsOwnColourTouchingOneCrossingStaysARing) {
 TEST(SuiteScenes, ALoneRodsLoopThroughWhichItPassesIsNoRing) {
   const synth::GeneratedScene s = scene("s1", 9001, 138);
   ASSERT_EQ(s.annotation.rods.size(), 1u);
-  const cv::Mat mask = s.render.labels > 0;
-  const Result<Detection> d = detect(mask, s.render.image);
-  ASSERT_TRUE(d.ok()) << d.error().message;
-  ASSERT_EQ(d.value().dlos.size(), 1u);
-  EXPECT_FALSE(d.value().dlos[0].closed);
-  const Result<validate::DiceScore> dice = validate::matched_dice(s.render.labels, d.value().labels);
-  ASSERT_TRUE(dice.ok());
-  EXPECT_GE(dice.value().matched_dice[0], 0.97);
+  expect_each_rod_one_open_dlo(s, detected(s));
   DetectorConfig no_reopening;
   no_reopening.loop_reopen_cost = 0;
-  EXPECT_EQ(detect(mask, s.render.image, no_reopening).value().dlos.size(), 2u);
+  EXPECT_EQ(detected(s, no_reopening).dlos.size(), 2u);
 }
 
 // `accuracy-suite.sh out/fresh-9000 200 9000`, stress scene 000052: a ring of nearly the
@@ -85,18 +90,10 @@ TEST(SuiteScenes, ARingOfARodsColourLyingAcrossItStaysARing) {
   const synth::GeneratedScene s = scene("stress", 9005, 52);
   ASSERT_EQ(s.annotation.rods.size(), 4u);
   ASSERT_TRUE(s.annotation.rods[3].closed);
-  const cv::Mat mask = s.render.labels > 0;
-  const auto closed = [&](const DetectorConfig& config) {
-    const Result<Detection> d = detect(mask, s.render.image, config);
-    EXPECT_TRUE(d.ok());
-    int n = 0;
-    for (const Dlo& dlo : d.value().dlos) n += dlo.closed;
-    return n;
-  };
-  EXPECT_EQ(closed(DetectorConfig()), 1);
+  EXPECT_EQ(closed_dlos(detected(s)), 1);
   DetectorConfig lenient;
   lenient.loop_reopen_cost = 10;
-  EXPECT_EQ(closed(lenient), 0);
+  EXPECT_EQ(closed_dlos(detected(s, lenient)), 0);
 }
 
 }  // namespace

@@ -99,7 +99,8 @@ struct DetectorConfig {
   // crossings in 3 scenes outside `stress` (a lone rod's loop among them) and broke none
   // (failures at 10 degrees and above 116 -> 108), and `stress` failures went from 2651 to
   // 2619; 0.5 alike; 2 and 10 mended more (101 and 95) but merged rings of a rod's colour
-  // into it (`stress` strict DICE -0.2 points on the held-out pair). 0 turns it off.
+  // into it (`stress` strict DICE -0.25 and -0.3 points on the held-out pair). 0 turns it
+  // off.
   double loop_reopen_cost = 1.0;
   // Two crossing regions joined by a branch up to epsilon_radii long become one when
   // pairing their exits together costs this much less (bending energy units) than pairing
