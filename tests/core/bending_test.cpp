@@ -11,6 +11,7 @@
 #include "mbest/core/detector.h"
 #include "mbest/core/geometry.h"
 #include "mbest/core/prune.h"
+#include "mbest/core/traverse.h"
 #include "scenes.h"
 
 namespace mbest {
@@ -284,6 +285,46 @@ TEST(Bending, TheTwoEndsOfOneBranchCloseIntoARingOnlyAtACost) {
   EXPECT_EQ(costs[1][0], 11.0);
   EXPECT_EQ(costs[2][3], 1.0);
   EXPECT_EQ(costs[0][2], 1.0);
+}
+
+TEST(Bending, AClosedDloJoinsAnOpenOneWhereReRoutingCostsLittle) {
+  // One crossing region, two passages: the closed DLO 0 turns a right angle from exit A to
+  // exit B, the open DLO 1 from C to D; straight on, A-C and B-D, costs less.
+  const BranchEnd a{1, 0}, b{1, 1}, c{2, 0}, d{3, 1};
+  const BranchTangent ta = exit_at(0), tb = exit_at(90), tc = exit_at(180), td = exit_at(270);
+  const auto setup = [&](const BranchTangent& ta_, const BranchTangent& tb_, int open_region) {
+    std::vector<Passage> passages{make_passage(0, a, ta_, b, tb_), make_passage(open_region, c, tc, d, td)};
+    return passages;
+  };
+  Traversal t;
+  t.dlos.resize(2);
+  t.dlos[0].closed = true;
+  t.dlo_passages = {{0}, {1}};
+  t.passage_dlo = {0, 1};
+  const auto joins = [](const Passage& p, BranchEnd x, BranchEnd y) {
+    return (p.from == x && p.to == y) || (p.from == y && p.to == x);
+  };
+  std::vector<Passage> passages = setup(ta, tb, 0);
+  ASSERT_TRUE(open_closed_loops(passages, t, {}, 1.0));
+  EXPECT_TRUE(joins(passages[0], a, c) || joins(passages[0], a, d));
+  EXPECT_TRUE(joins(passages[1], b, d) || joins(passages[1], b, c));
+  EXPECT_TRUE(joins(passages[0], a, c)) << "straight on is the cheaper way round";
+  EXPECT_FALSE(open_closed_loops(passages = setup(ta, tb, 0), t, {}, 0)) << "0 turns it off";
+  EXPECT_FALSE(open_closed_loops(passages = setup(ta, tb, 1), t, {}, 1.0)) << "another region";
+  // A loop whose colour is far from both of the open DLO's exits is a ring of its own.
+  const cv::Vec3f red{50, 60, 40}, blue{40, 10, -50};
+  passages = {make_passage(0, a, coloured(ta, red), b, coloured(tb, red)),
+              make_passage(0, c, coloured(tc, blue), d, coloured(td, blue))};
+  EXPECT_FALSE(open_closed_loops(passages, t, {}, 1.0));
+  passages[1].to_tangent.colour = red;
+  EXPECT_TRUE(open_closed_loops(passages, t, {}, 1.0)) << "one of the open DLO's exits shares it";
+  // Where the loop already runs straight through, re-routing costs more than 1 allows.
+  passages = {make_passage(0, a, ta, b, tc), make_passage(0, c, tb, d, td)};
+  EXPECT_FALSE(open_closed_loops(passages, t, {}, 1.0));
+  EXPECT_TRUE(open_closed_loops(passages, t, {}, 100.0));
+  // With no open DLO in the region there is nothing to join.
+  t.dlos[1].closed = true;
+  EXPECT_FALSE(open_closed_loops(passages = setup(ta, tb, 0), t, {}, 1.0));
 }
 
 BranchTangent with_radius(BranchTangent t, float radius) {
