@@ -670,7 +670,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
                               std::vector<int> beside, const auto& joined_exits) {
       if (alone <= best.gain) return;
       std::vector<BranchEnd> exits = joined_exits();
-      if (exits.size() < 3 || exits.size() > kMaxExactExits) return;
+      if (exits.size() < 3) return;
       if (alone - cache.least_cost_bound(exits) <= best.gain) return;
       const double gain = alone - cache.least_cost(exits);
       if (gain > best.gain)
