@@ -2,8 +2,10 @@
 // (mbest::synth), detects its DLOs from the mask and the picture (mbest::core), and scores
 // the instance labels against the scene's exact ground truth (mbest::validate).
 // Usage: mbest_consumer [PRESET [SEED]]   (default s2 1)
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "mbest/core/detector.h"
@@ -15,7 +17,16 @@
 
 int main(int argc, char** argv) {
   const std::string preset = argc > 1 ? argv[1] : "s2";
-  const std::uint64_t seed = argc > 2 ? std::stoull(argv[2]) : 1;
+  std::uint64_t seed = 1;
+  if (argc > 2) {
+    char* end = nullptr;
+    errno = 0;
+    seed = std::strtoull(argv[2], &end, 10);
+    if (argv[2][0] < '0' || argv[2][0] > '9' || *end != '\0' || errno == ERANGE) {
+      std::fprintf(stderr, "mbest_consumer: SEED must be a non-negative integer, got '%s'\n", argv[2]);
+      return 2;
+    }
+  }
 
   const mbest::Result<mbest::synth::SynthConfig> config = mbest::synth::preset_config(preset);
   if (!config) {
