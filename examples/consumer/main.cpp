@@ -1,5 +1,5 @@
 // Uses the three mbest libraries the way a program of your own would: generates one scene
-// (mbest::synth), detects its DLOs from the mask and the picture (mbest::core), and scores
+// (mbest::synth; scene 0 of what `mbest synth --preset PRESET --seed SEED` writes), detects its DLOs from the mask and the picture (mbest::core), and scores
 // the instance labels against the scene's exact ground truth (mbest::validate).
 // Usage: mbest_consumer [PRESET [SEED]]   (default s2 1)
 #include <cerrno>
@@ -10,9 +10,7 @@
 
 #include "mbest/core/detector.h"
 #include "mbest/synth/config.h"
-#include "mbest/synth/render.h"
-#include "mbest/synth/rng.h"
-#include "mbest/synth/scene.h"
+#include "mbest/synth/dataset.h"
 #include "mbest/validate/dice.h"
 
 int main(int argc, char** argv) {
@@ -33,29 +31,28 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mbest_consumer: %s\n", config.error().message.c_str());
     return 2;
   }
-  mbest::synth::Rng rng(seed);
-  const mbest::synth::Scene scene = mbest::synth::compose_scene(config.value(), rng);
-  const mbest::Result<mbest::synth::RenderedScene> rendered =
-      mbest::synth::render_scene(scene, config.value(), rng);
-  if (!rendered) {
-    std::fprintf(stderr, "mbest_consumer: %s\n", rendered.error().message.c_str());
+  const mbest::Result<mbest::synth::GeneratedScene> generated =
+      mbest::synth::generate_scene(config.value(), seed, 0);
+  if (!generated) {
+    std::fprintf(stderr, "mbest_consumer: %s\n", generated.error().message.c_str());
     return 1;
   }
+  const mbest::synth::RenderedScene& rendered = generated.value().render;
 
-  const cv::Mat mask = rendered.value().labels > 0;  // CV_8UC1, 255 on the rods
-  const mbest::Result<mbest::Detection> detection = mbest::detect(mask, rendered.value().image);
+  const cv::Mat mask = rendered.labels > 0;  // CV_8UC1, 255 on the rods
+  const mbest::Result<mbest::Detection> detection = mbest::detect(mask, rendered.image);
   if (!detection) {
     std::fprintf(stderr, "mbest_consumer: %s\n", detection.error().message.c_str());
     return 1;
   }
   const mbest::Result<mbest::validate::DiceScore> dice =
-      mbest::validate::matched_dice(rendered.value().labels, detection.value().labels);
+      mbest::validate::matched_dice(rendered.labels, detection.value().labels);
   if (!dice) {
     std::fprintf(stderr, "mbest_consumer: %s\n", dice.error().message.c_str());
     return 1;
   }
   std::printf("%s seed %llu: %zu rods, %zu DLOs detected, strict DICE %.4f\n", preset.c_str(),
-              static_cast<unsigned long long>(seed), scene.rods.size(),
+              static_cast<unsigned long long>(seed), generated.value().annotation.rods.size(),
               detection.value().dlos.size(), dice.value().strict);
   return 0;
 }
