@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
+#include <set>
 
 #include <opencv2/imgproc.hpp>
 
@@ -517,8 +519,73 @@ constexpr float kCentreWeight = 1.f;
 // outside `stress` 0 to 0.5 alike (one crossing either way), 1 and 2 lost what 0 mended.
 constexpr float kCurveWeight = 0.25f;
 
+std::vector<std::vector<double>> inner_route_bending(const SkeletonGraph& g, const CrossingRegion& region,
+                                                     const std::vector<BranchTangent>& exits,
+                                                     double cut_length, double fit_length) {
+  const size_t n = region.exits.size();
+  std::vector<std::vector<double>> route(n, std::vector<double>(n, std::numeric_limits<double>::infinity()));
+  // Per node of the region, the inner branches leaving it: the node at their far end, their
+  // tangent leaving this node and the direction a path along them arrives at the far one.
+  struct Step {
+    int arrival;  // 2 * branch + side of the far end: the state a path along it reaches
+    int far_node;
+    cv::Point2f leave, arrive;
+  };
+  std::map<int, std::vector<Step>> steps_from;
+  for (int b : region.inner_branches) {
+    const Branch& branch = g.branches[b];
+    if (branch.node[0] < 0 || branch.node[1] < 0 || branch.node[0] == branch.node[1]) continue;
+    const cv::Point2f away[2] = {fit_branch_tangent(g, {b, 0}, cut_length, fit_length, true).direction,
+                                 fit_branch_tangent(g, {b, 1}, cut_length, fit_length, true).direction};
+    for (int side = 0; side < 2; ++side)
+      steps_from[branch.node[side]].push_back(
+          {2 * b + 1 - side, branch.node[1 - side], away[side], -away[1 - side]});
+  }
+  std::vector<int> node_of(n);
+  for (size_t i = 0; i < n; ++i) node_of[i] = g.branches[region.exits[i].branch].node[region.exits[i].side];
+  const auto turn = [](cv::Point2f from, cv::Point2f to) {
+    const double k = discrete_curvature(from, to);
+    return k * k;
+  };
+  // From each exit, Dijkstra's search over "arrived at a node along this inner branch" (the
+  // direction of travel matters, so states are branch ends, not nodes). Regions this is
+  // used for hold tens of inner branches at most: a linear scan for the cheapest open state.
+  struct State {
+    double cost;
+    int node;
+    cv::Point2f travel;
+    int arrival;  // -1: the start, entering from the exit
+  };
+  for (size_t i = 0; i < n; ++i) {
+    std::set<int> settled;
+    std::vector<State> open{{0, node_of[i], -exits[i].direction, -1}};
+    while (!open.empty()) {
+      const auto cheapest = std::min_element(open.begin(), open.end(),
+                                             [](const State& a, const State& b) { return a.cost < b.cost; });
+      const State s = *cheapest;
+      open.erase(cheapest);
+      if (s.arrival >= 0) {
+        if (!settled.insert(s.arrival).second) continue;
+        for (size_t j = 0; j < n; ++j)
+          if (node_of[j] == s.node && node_of[j] != node_of[i])
+            route[i][j] = std::min(route[i][j], s.cost + turn(s.travel, exits[j].direction));
+      }
+      const auto from = steps_from.find(s.node);
+      if (from == steps_from.end()) continue;
+      for (const Step& step : from->second)
+        if (!settled.count(step.arrival))
+          open.push_back({s.cost + turn(s.travel, step.leave) + turn(step.leave, step.arrive),
+                          step.far_node, step.arrive, step.arrival});
+    }
+  }
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) route[i][j] = route[j][i] = std::min(route[i][j], route[j][i]);
+  return route;
+}
+
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache,
-                                    double fold_energy, double unlike_energy, double unlike_fold_energy) {
+                                    double fold_energy, double unlike_energy, double unlike_fold_energy,
+                                    RouteCosts route) {
   const PairWeights weights = cache.setup().weights;
   // The folds below are weighed by shape: bending energy, and width where it counts.
   const PairWeights shape{0, weights.width};
@@ -536,7 +603,27 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
     if (tangents.size() == 2 && (pair_cost(tangents[0], tangents[1], shape) > fold_energy ||
                                  unlike(tangents[0], tangents[1], unlike_fold_energy)))
       continue;
-    for (const auto& [i, j] : min_energy_pairing(tangents, region.exits, weights)) {
+    std::vector<std::pair<int, int>> pairing;
+    if (route.min_exits > 0 && static_cast<int>(region.exits.size()) >= route.min_exits &&
+        !region.inner_branches.empty()) {
+      // A cluster: exits at two of its nodes pair at the lesser of their bending energy and
+      // the weighted bending of the strand's route between them through the inner branches.
+      std::vector<std::vector<double>> e = pair_cost_matrix(tangents, weights);
+      add_loop_closing_costs(e, tangents, region.exits, weights.loop);
+      const std::vector<std::vector<double>> routed = inner_route_bending(
+          cache.graph(), region, tangents, cache.setup().cut_length, cache.setup().fit_length);
+      for (size_t a = 0; a < e.size(); ++a)
+        for (size_t b = 0; b < e.size(); ++b) {
+          if (a == b || !std::isfinite(routed[a][b])) continue;
+          const double bend =
+              0.5 * (bending_energy(tangents[a], tangents[b]) + bending_energy(tangents[b], tangents[a]));
+          e[a][b] += std::min(0.0, route.weight * routed[a][b] - bend);
+        }
+      pairing = least_cost_pairing(e);
+    } else {
+      pairing = min_energy_pairing(tangents, region.exits, weights);
+    }
+    for (const auto& [i, j] : pairing) {
       if (unlike(tangents[i], tangents[j], unlike_energy)) continue;  // both strands end here
       passages.push_back(make_passage(r, region.exits[i], tangents[i], region.exits[j], tangents[j]));
     }

@@ -499,7 +499,9 @@ constexpr ConfigField kConfigFields[] = {
     {"border_fold_energy", &DetectorConfig::border_fold_energy, 0, 1000},
     {"colour_fold_energy", &DetectorConfig::colour_fold_energy, 0, 1000},
     {"colour_label_margin", &DetectorConfig::colour_label_margin, 0, 1000},
-    {"side_by_side_radii", &DetectorConfig::side_by_side_radii, 0, 1000}};
+    {"side_by_side_radii", &DetectorConfig::side_by_side_radii, 0, 1000},
+    {"route_min_exits", &DetectorConfig::route_min_exits, 0, 1000},
+    {"route_weight", &DetectorConfig::route_weight, 0, 100}};
 
 std::string out_of_range(const ConfigField& f, const std::string& value) {
   char range[64];
@@ -595,7 +597,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
                                   config.merge_gain, config.wide_radii * r, spur_length);
     auto built = build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy,
-                                config.colour_fold_energy);
+                                config.colour_fold_energy,
+                                {static_cast<int>(config.route_min_exits), config.route_weight});
     keep_passages_on_mask(built, mask, r, kMaxOffMask);
     return built;
   });

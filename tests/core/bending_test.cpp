@@ -482,6 +482,103 @@ TEST(Bending, RegionsThatPairBetterTogetherAreMerged) {
   }
 }
 
+// A cluster of two junctions, J1 (100, 100) and J2 (160, 160), joined by an S-shaped inner
+// branch that leaves J1 heading right and arrives at J2 heading right. At J1 a rod comes in
+// from the left and one leaves upwards; at J2 one leaves to the right and one downwards.
+struct SCluster {
+  SkeletonGraph graph;
+  CrossingRegion region;
+  int left = -1, up = -1, right = -1, down = -1;  // indices into region.exits
+};
+SCluster s_cluster() {
+  HandGraph h;
+  const int j1 = h.node({100, 100}, Node::Kind::junction), j2 = h.node({160, 160}, Node::Kind::junction);
+  const int link = h.branch_via(j1, {{125, 100}, {135, 160}}, j2);
+  const int left = h.branch(h.node({30, 100}, Node::Kind::end), j1);
+  const int up = h.branch(j1, h.node({100, 30}, Node::Kind::end));
+  const int right = h.branch(j2, h.node({230, 160}, Node::Kind::end));
+  const int down = h.branch(j2, h.node({160, 230}, Node::Kind::end));
+  SCluster c;
+  c.region.nodes = {j1, j2};
+  c.region.inner_branches = {link};
+  h.graph.branches[link].alive = false;
+  for (const BranchEnd& e : {BranchEnd{left, 1}, BranchEnd{up, 0}, BranchEnd{right, 0}, BranchEnd{down, 0}})
+    c.region.exits.push_back(e);
+  c.left = 0, c.up = 1, c.right = 2, c.down = 3;
+  c.graph = std::move(h.graph);
+  return c;
+}
+
+TEST(Bending, ARouteThroughAClusterPaysForTheTurnsAlongItsInnerBranches) {
+  const SCluster c = s_cluster();
+  const PairingSetup setup{2, 8, cv::Mat(), {}};
+  const std::vector<BranchTangent> t = exit_tangents(c.graph, c.region.exits, setup);
+  const auto route = inner_route_bending(c.graph, c.region, t, setup.cut_length, setup.fit_length);
+  ASSERT_EQ(route.size(), 4u);
+  // Left to right runs straight along the S: no turn, where the Hermite curve between the
+  // two exits, 60 px apart sideways, bends.
+  EXPECT_LT(route[c.left][c.right], 0.05);
+  EXPECT_GT(pair_cost(t[c.left], t[c.right], {}), 1.0);
+  // Left to down turns a right angle at J2 (2 tan 45 degrees, squared); up to down turns two.
+  EXPECT_NEAR(route[c.left][c.down], 4.0, 0.3);
+  EXPECT_NEAR(route[c.up][c.down], 8.0, 0.6);
+  // Two exits at one node have no route through the inside; the costs are symmetric.
+  EXPECT_TRUE(std::isinf(route[c.left][c.up]));
+  EXPECT_TRUE(std::isinf(route[c.right][c.down]));
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) EXPECT_EQ(route[a][b], route[b][a]);
+  // Without the inner branch there is no route at all.
+  SCluster bare = s_cluster();
+  bare.region.inner_branches.clear();
+  const auto none = inner_route_bending(bare.graph, bare.region, t, setup.cut_length, setup.fit_length);
+  EXPECT_TRUE(std::isinf(none[c.left][c.right]));
+}
+
+// Two strands crossing twice, J1 (100, 100) and J2 (200, 100), between them an eye of two
+// inner branches, over (100, 100) - (150, 70) - (200, 100) and under through (150, 130). One
+// strand comes from the lower left, runs over the top and leaves to the lower right; the
+// other from the upper left along the bottom to the upper right. Every pair of exits across
+// the eye shares the chord J1-J2, so their Hermite energies add up nearly alike for either
+// pairing (the wrong one a little cheaper): only the inside tells which way each runs.
+TEST(Bending, AClusterPairsTheStrandsThatFollowItsInside) {
+  HandGraph h;
+  const int j1 = h.node({100, 100}, Node::Kind::junction), j2 = h.node({200, 100}, Node::Kind::junction);
+  const int over = h.branch_via(j1, {{150, 70}}, j2), under = h.branch_via(j1, {{150, 130}}, j2);
+  const int lower_left = h.branch(h.node({50, 130}, Node::Kind::end), j1);
+  const int upper_left = h.branch(h.node({50, 70}, Node::Kind::end), j1);
+  const int lower_right = h.branch(j2, h.node({250, 130}, Node::Kind::end));
+  const int upper_right = h.branch(j2, h.node({250, 70}, Node::Kind::end));
+  CrossingRegion region;
+  region.nodes = {j1, j2};
+  region.inner_branches = {over, under};
+  region.exits = {{lower_left, 1}, {upper_left, 1}, {lower_right, 0}, {upper_right, 0}};
+  SkeletonGraph graph = std::move(h.graph);
+  graph.branches[over].alive = graph.branches[under].alive = false;
+  const PairingSetup setup{2, 8, cv::Mat(), {}};
+  const std::vector<BranchTangent> t = exit_tangents(graph, region.exits, setup);
+  const double along = pair_cost(t[0], t[2], {}) + pair_cost(t[1], t[3], {});
+  const double across = pair_cost(t[0], t[3], {}) + pair_cost(t[1], t[2], {});
+  EXPECT_LT(across, along) << "by Hermite energy alone the wrong pairing is the cheaper";
+  EXPECT_LT(along - across, 0.3) << "but only by what the attachment points add";
+  TangentCache cache(graph, setup);
+  const auto pairs_of = [&](RouteCosts route) {
+    std::set<std::pair<int, int>> pairs;
+    const double never = std::numeric_limits<double>::infinity();
+    for (const Passage& p : build_passages({region}, cache, never, never, never, route)) {
+      const auto index = [&](BranchEnd e) {
+        return static_cast<int>(std::find(region.exits.begin(), region.exits.end(), e) - region.exits.begin());
+      };
+      pairs.insert(std::minmax(index(p.from), index(p.to)));
+    }
+    return pairs;
+  };
+  const std::set<std::pair<int, int>> strands{{0, 2}, {1, 3}};
+  EXPECT_EQ(pairs_of({4, 0.35}), strands);
+  EXPECT_EQ(pairs_of({5, 0.35}), pairs_of({0, 0.35})) << "fewer exits than min_exits: as without";
+  EXPECT_NE(pairs_of({0, 0.35}), strands) << "the tie went the strands' way without the route: "
+                                            "this scene no longer shows what the route adds";
+}
+
 // A Y where a green DLO ends lying along a yellow one: the yellow comes in from the lower
 // left and bends 30 degrees into the exit to the right, the green comes in from the left
 // bending 10, and lies on top of the yellow for the exit's first 40 px, where the exit is

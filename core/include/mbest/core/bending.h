@@ -266,11 +266,37 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // A region with two such exits (no other pairing to choose) parts them at the lower
 // `unlike_fold_energy`: one rod neither folds nor changes colour at a point, and two DLOs
 // of different colours whose ends touch leave a junction with just their two exits.
+//
+// A cluster (a region of at least `route.min_exits` exits, with inner branches: strands
+// lying along each other, merged into one region by the stages before) is paired along its
+// inside too: a pair of exits at two different nodes of it costs the lesser of its bending
+// energy and `route.weight` times the bending of the strand's cheapest route between them
+// through the inner branches (inner_route_bending). The Hermite curve's energy between two
+// far exits of a long cluster says little of how a strand runs between them; the skeleton
+// inside does. min_exits 0: never.
+struct RouteCosts {
+  int min_exits = 0;
+  double weight = 1;
+};
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
                                     TangentCache& tangents,
                                     double fold_energy = std::numeric_limits<double>::infinity(),
                                     double unlike_energy = std::numeric_limits<double>::infinity(),
-                                    double unlike_fold_energy = std::numeric_limits<double>::infinity());
+                                    double unlike_fold_energy = std::numeric_limits<double>::infinity(),
+                                    RouteCosts route = {});
+
+// For every two exits of `region` (tangents `exits`, in the order of region.exits) at two
+// different nodes of it, the bending of the cheapest route between them through its inner
+// branches: a path that enters along one exit, follows inner branches from node to node and
+// leaves along the other pays the squared discrete curvature of every turn, from the exit
+// into the first inner branch, along each inner branch (from its tangent leaving one node
+// to its tangent arriving at the other, fitted as exits are, over `cut_length` and
+// `fit_length`), from branch to branch at each node and into the far exit. Infinity for
+// two exits at one node or with no such route. Symmetric.
+std::vector<std::vector<double>> inner_route_bending(const SkeletonGraph& graph,
+                                                     const CrossingRegion& region,
+                                                     const std::vector<BranchTangent>& exits,
+                                                     double cut_length, double fit_length);
 
 // The passage joining exit `from` to exit `to` of crossing region `region`: a Hermite curve
 // between the two attachment points, along their path directions, radii interpolated.
