@@ -9,8 +9,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <functional>
 #include <map>
-#include <set>
+#include <queue>
 
 #include <opencv2/imgproc.hpp>
 
@@ -526,62 +527,74 @@ std::vector<std::vector<double>> inner_route_bending(const SkeletonGraph& g, con
   std::vector<std::vector<double>> route(n, std::vector<double>(n, std::numeric_limits<double>::infinity()));
   // Per node of the region, the inner branches leaving it: the node at their far end, their
   // tangent leaving this node and the direction a path along them arrives at the far one.
+  // A path's state is the inner branch end it arrived by (the direction of travel matters,
+  // so states are branch ends, not nodes), numbered from 0.
   struct Step {
-    int arrival;  // 2 * branch + side of the far end: the state a path along it reaches
+    int arrival;  // the state a path along the branch reaches
     int far_node;
     cv::Point2f leave, arrive;
   };
   std::map<int, std::vector<Step>> steps_from;
+  int states = 0;
   for (int b : region.inner_branches) {
     const Branch& branch = g.branches[b];
     if (branch.node[0] < 0 || branch.node[1] < 0 || branch.node[0] == branch.node[1]) continue;
     const cv::Point2f away[2] = {fit_branch_tangent(g, {b, 0}, cut_length, fit_length, true).direction,
                                  fit_branch_tangent(g, {b, 1}, cut_length, fit_length, true).direction};
     for (int side = 0; side < 2; ++side)
-      steps_from[branch.node[side]].push_back(
-          {2 * b + 1 - side, branch.node[1 - side], away[side], -away[1 - side]});
+      steps_from[branch.node[side]].push_back({states + 1 - side, branch.node[1 - side], away[side], -away[1 - side]});
+    states += 2;
   }
   std::vector<int> node_of(n);
-  for (size_t i = 0; i < n; ++i) node_of[i] = g.branches[region.exits[i].branch].node[region.exits[i].side];
+  std::map<int, std::vector<int>> exits_at;
+  for (size_t i = 0; i < n; ++i) {
+    node_of[i] = g.branches[region.exits[i].branch].node[region.exits[i].side];
+    exits_at[node_of[i]].push_back(static_cast<int>(i));
+  }
   const auto turn = [](cv::Point2f from, cv::Point2f to) {
     const double k = discrete_curvature(from, to);
     return k * k;
   };
-  // From each exit, Dijkstra's search over "arrived at a node along this inner branch" (the
-  // direction of travel matters, so states are branch ends, not nodes). Regions this is
-  // used for hold tens of inner branches at most: a linear scan for the cheapest open state.
-  struct State {
+  // From each exit, Dijkstra's search over the states.
+  struct Open {
     double cost;
     int node;
     cv::Point2f travel;
     int arrival;  // -1: the start, entering from the exit
+    bool operator>(const Open& o) const { return cost > o.cost; }
   };
   for (size_t i = 0; i < n; ++i) {
-    std::set<int> settled;
-    std::vector<State> open{{0, node_of[i], -exits[i].direction, -1}};
+    std::vector<char> settled(states, 0);
+    std::priority_queue<Open, std::vector<Open>, std::greater<Open>> open;
+    open.push({0, node_of[i], -exits[i].direction, -1});
     while (!open.empty()) {
-      const auto cheapest = std::min_element(open.begin(), open.end(),
-                                             [](const State& a, const State& b) { return a.cost < b.cost; });
-      const State s = *cheapest;
-      open.erase(cheapest);
+      const Open s = open.top();
+      open.pop();
       if (s.arrival >= 0) {
-        if (!settled.insert(s.arrival).second) continue;
-        for (size_t j = 0; j < n; ++j)
-          if (node_of[j] == s.node && node_of[j] != node_of[i])
+        if (settled[s.arrival]) continue;
+        settled[s.arrival] = 1;
+        if (s.node != node_of[i])
+          for (int j : exits_at[s.node])
             route[i][j] = std::min(route[i][j], s.cost + turn(s.travel, exits[j].direction));
       }
       const auto from = steps_from.find(s.node);
       if (from == steps_from.end()) continue;
       for (const Step& step : from->second)
-        if (!settled.count(step.arrival))
-          open.push_back({s.cost + turn(s.travel, step.leave) + turn(step.leave, step.arrive),
-                          step.far_node, step.arrive, step.arrival});
+        if (!settled[step.arrival])
+          open.push({s.cost + turn(s.travel, step.leave) + turn(step.leave, step.arrive), step.far_node,
+                     step.arrive, step.arrival});
     }
   }
   for (size_t i = 0; i < n; ++i)
     for (size_t j = i + 1; j < n; ++j) route[i][j] = route[j][i] = std::min(route[i][j], route[j][i]);
   return route;
 }
+
+// Regions up to this many exits are paired along their inside (RouteCosts): the clusters it
+// mends on generated scenes hold 10 to a few tens; a region of hundreds is a mask the
+// detector cannot read (a textured background segmented as foreground), where the search,
+// one per exit, only costs time.
+constexpr int kMaxRouteExits = 64;
 
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache,
                                     double fold_energy, double unlike_energy, double unlike_fold_energy,
@@ -605,7 +618,7 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
       continue;
     std::vector<std::pair<int, int>> pairing;
     if (route.min_exits > 0 && static_cast<int>(region.exits.size()) >= route.min_exits &&
-        !region.inner_branches.empty()) {
+        static_cast<int>(region.exits.size()) <= kMaxRouteExits && !region.inner_branches.empty()) {
       // A cluster: exits at two of its nodes pair at the lesser of their bending energy and
       // the weighted bending of the strand's route between them through the inner branches.
       std::vector<std::vector<double>> e = pair_cost_matrix(tangents, weights);

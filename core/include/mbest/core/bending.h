@@ -267,13 +267,13 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // `unlike_fold_energy`: one rod neither folds nor changes colour at a point, and two DLOs
 // of different colours whose ends touch leave a junction with just their two exits.
 //
-// A cluster (a region of at least `route.min_exits` exits, with inner branches: strands
-// lying along each other, merged into one region by the stages before) is paired along its
-// inside too: a pair of exits at two different nodes of it costs the lesser of its bending
-// energy and `route.weight` times the bending of the strand's cheapest route between them
-// through the inner branches (inner_route_bending). The Hermite curve's energy between two
-// far exits of a long cluster says little of how a strand runs between them; the skeleton
-// inside does. min_exits 0: never.
+// A cluster (a region of at least `route.min_exits` exits and at most 64, with inner
+// branches: strands lying along each other, merged into one region by the stages before)
+// is paired along its inside too: a pair of exits at two different nodes of it costs the
+// lesser of its bending energy and `route.weight` times the bending of the strand's
+// cheapest route between them through the inner branches (inner_route_bending). All pairs
+// across a cluster share one chord, so their Hermite energies add up alike for any
+// pairing; the skeleton inside shows how each strand runs. min_exits 0: never.
 struct RouteCosts {
   int min_exits = 0;
   double weight = 1;
