@@ -573,8 +573,9 @@ std::vector<std::vector<double>> inner_route_bending(const SkeletonGraph& g, con
       if (s.arrival >= 0) {
         if (settled[s.arrival]) continue;
         settled[s.arrival] = 1;
-        if (s.node != node_of[i])
-          for (int j : exits_at[s.node])
+        const auto there = exits_at.find(s.node);
+        if (s.node != node_of[i] && there != exits_at.end())
+          for (int j : there->second)
             route[i][j] = std::min(route[i][j], s.cost + turn(s.travel, exits[j].direction));
       }
       const auto from = steps_from.find(s.node);
@@ -626,11 +627,13 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
       const std::vector<std::vector<double>> routed = inner_route_bending(
           cache.graph(), region, tangents, cache.setup().cut_length, cache.setup().fit_length);
       for (size_t a = 0; a < e.size(); ++a)
-        for (size_t b = 0; b < e.size(); ++b) {
-          if (a == b || !std::isfinite(routed[a][b])) continue;
+        for (size_t b = a + 1; b < e.size(); ++b) {
+          if (!std::isfinite(routed[a][b])) continue;
           const double bend =
               0.5 * (bending_energy(tangents[a], tangents[b]) + bending_energy(tangents[b], tangents[a]));
-          e[a][b] += std::min(0.0, route.weight * routed[a][b] - bend);
+          const double saving = std::min(0.0, route.weight * routed[a][b] - bend);
+          e[a][b] += saving;
+          e[b][a] += saving;
         }
       pairing = least_cost_pairing(e);
     } else {
