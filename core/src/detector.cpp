@@ -492,6 +492,7 @@ constexpr ConfigField kConfigFields[] = {
     {"width_weight", &DetectorConfig::width_weight, 0, 100},
     {"loop_closing_cost", &DetectorConfig::loop_closing_cost, 0, 1000},
     {"loop_reopen_cost", &DetectorConfig::loop_reopen_cost, 0, 1000},
+    {"loop_reopen_own_colour_cost", &DetectorConfig::loop_reopen_own_colour_cost, 0, 1000},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
@@ -606,7 +607,9 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     Traversal t = traverse(graph, passages, config.min_dlo_length_radii * r);
     // Each re-pairing makes one closed DLO part of an open one.
     for (size_t k = t.dlos.size();
-         k > 0 && open_closed_loops(passages, t, pairing.weights, config.loop_reopen_cost); --k) {
+         k > 0 && open_closed_loops(passages, t, pairing.weights, config.loop_reopen_cost,
+                                     config.loop_reopen_own_colour_cost);
+         --k) {
       keep_passages_on_mask(passages, mask, r, kMaxOffMask);
       t = traverse(graph, passages, config.min_dlo_length_radii * r);
     }

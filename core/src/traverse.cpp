@@ -134,14 +134,17 @@ Traversal traverse(const SkeletonGraph& g, const std::vector<Passage>& passages,
 }
 
 bool open_closed_loops(std::vector<Passage>& passages, const Traversal& t, PairWeights weights,
-                       double max_cost) {
+                       double max_cost, double own_colour_cost) {
   if (max_cost <= 0) return false;
   weights.loop = 0;
   const auto cost = [&](const BranchTangent& a, const BranchTangent& b) { return pair_cost(a, b, weights); };
   const auto far = [](const BranchTangent& a, const BranchTangent& b) {
     return a.has_colour && b.has_colour && colour_distance(a.colour, b.colour) > kColourTolerance;
   };
-  double best = max_cost;
+  const auto alike = [](const BranchTangent& a, const BranchTangent& b) {
+    return a.has_colour && b.has_colour && colour_distance(a.colour, b.colour) <= kColourTolerance / 2;
+  };
+  double best = std::numeric_limits<double>::infinity();
   int best_p = -1, best_q = -1;
   bool crossed = false;  // from-from and to-to (else from-to and to-from)
   for (size_t d = 0; d < t.dlos.size(); ++d) {
@@ -156,7 +159,11 @@ bool open_closed_loops(std::vector<Passage>& passages, const Traversal& t, PairW
         const double before = cost(lp.from_tangent, lp.to_tangent) + cost(op.from_tangent, op.to_tangent);
         const double same = cost(lp.from_tangent, op.from_tangent) + cost(lp.to_tangent, op.to_tangent) - before;
         const double swapped = cost(lp.from_tangent, op.to_tangent) + cost(lp.to_tangent, op.from_tangent) - before;
-        if (std::min(same, swapped) <= best) {
+        // All four exits of one colour: most likely one rod, its loop closed here.
+        const bool one_colour = alike(lp.from_tangent, op.from_tangent) && alike(lp.from_tangent, op.to_tangent) &&
+                                alike(lp.to_tangent, op.from_tangent) && alike(lp.to_tangent, op.to_tangent);
+        const double allowed = one_colour ? std::max(max_cost, own_colour_cost) : max_cost;
+        if (std::min(same, swapped) <= std::min(allowed, best)) {
           best = std::min(same, swapped);
           best_p = p;
           best_q = q;

@@ -322,6 +322,23 @@ TEST(Bending, AClosedDloJoinsAnOpenOneWhereReRoutingCostsLittle) {
   passages = {make_passage(0, a, ta, b, tc), make_passage(0, c, tb, d, td)};
   EXPECT_FALSE(open_closed_loops(passages, t, {}, 1.0));
   EXPECT_TRUE(open_closed_loops(passages, t, {}, 100.0));
+  // Re-routing a loop turning 90 degrees with a DLO running straight through at 60
+  // degrees to its first exit costs about 1.4: more than 1 allows, but where all four exits
+  // are of one colour the loop is most likely the rod's own, and own_colour_cost allows it.
+  const BranchTangent te = exit_at(240), tf = exit_at(60);
+  const auto tinted = [&](cv::Vec3f loop, cv::Vec3f rod) {
+    return std::vector<Passage>{make_passage(0, a, coloured(ta, loop), b, coloured(tb, loop)),
+                                make_passage(0, c, coloured(te, rod), d, coloured(tf, rod))};
+  };
+  const cv::Vec3f green{60, -40, 30}, greenish{60, -33, 30};  // 7 Lab units apart
+  EXPECT_FALSE(open_closed_loops(passages = tinted(green, green), t, {}, 1.0));
+  EXPECT_TRUE(open_closed_loops(passages = tinted(green, green), t, {}, 1.0, 2.0)) << "one colour";
+  EXPECT_FALSE(open_closed_loops(passages = tinted(green, greenish), t, {}, 1.0, 2.0))
+      << "a ring of a like colour (within kColourTolerance, not half of it)";
+  EXPECT_FALSE(open_closed_loops(passages = {make_passage(0, a, ta, b, tb), make_passage(0, c, te, d, tf)}, t, {},
+                                 1.0, 2.0))
+      << "no colours (a mask alone): 1 allows no more";
+  EXPECT_FALSE(open_closed_loops(passages = tinted(green, green), t, {}, 0, 2.0)) << "0 turns it off";
   // With no open DLO in the region there is nothing to join.
   t.dlos[1].closed = true;
   EXPECT_FALSE(open_closed_loops(passages = setup(ta, tb, 0), t, {}, 1.0));

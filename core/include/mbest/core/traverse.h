@@ -28,12 +28,14 @@ Traversal traverse(const SkeletonGraph& graph, const std::vector<Passage>& passa
 // that runs through a crossing region, finds the least costly re-pairing of one of its
 // passages there with one of an open DLO's (either way round, by pair_cost under
 // `weights` without the loop cost) that makes the loop part of that DLO. Makes the
-// cheapest, if it costs at most `max_cost` more than the two passages did and the loop's
-// colour is not that of a ring of its own (its exit's colour further than kColourTolerance
-// from both of the open DLO's exits). One loop at a time: returns true when `passages`
-// changed (traverse again).
+// cheapest, if it costs at most `max_cost` more than the two passages did (or at most
+// `own_colour_cost`, if larger, where all four exits are of one colour, within half
+// kColourTolerance: a rod's own loop) and the loop's colour is not that of a ring of its own
+// (its exit's colour further than kColourTolerance from both of the open DLO's exits). One
+// loop at a time: returns true when `passages` changed (traverse again). `max_cost` 0 turns
+// it off.
 bool open_closed_loops(std::vector<Passage>& passages, const Traversal& t, PairWeights weights,
-                       double max_cost);
+                       double max_cost, double own_colour_cost = 0);
 
 // Thinning leaves a skeleton end about a radius short of the DLO's tip, and bent towards a
 // corner of a flat tip over its last r px. Replaces those r px of each end of an open DLO
