@@ -116,6 +116,13 @@ Result<nlohmann::json> process(const Input& in, const Options& o, bool mask_is_f
     if (!m) return m.error();
     mask = std::move(m).value();
   }
+  // A mask that covers every pixel is a segmentation gone wrong: no DLO can be told from
+  // it, and an empty result would read as a frame without DLOs. An empty mask is such a
+  // frame: its outputs are written, with a note.
+  const int foreground = cv::countNonZero(mask);
+  if (foreground == static_cast<int>(mask.total()))
+    return Error{in.path.string() + ": the mask covers every pixel (" + std::to_string(mask.cols) + "x" +
+                 std::to_string(mask.rows) + "): no DLO can be told from it; check the segmentation"};
   Result<Detection> det = detect(mask, image.value(), o.detector);
   if (!det) return Error{in.path.string() + ": " + det.error().message};
 
@@ -129,8 +136,10 @@ Result<nlohmann::json> process(const Input& in, const Options& o, bool mask_is_f
   if (o.overlay)
     if (Status s = write_image_atomically(stem + ".overlay.png", draw_overlay(image.value(), det.value())); !s)
       return s.error();
-  return nlohmann::json{{"path", in.relative.string()}, {"total_ms", j["total_ms"]}, {"stages_ms", j["stages_ms"]},
+  nlohmann::json record{{"path", in.relative.string()}, {"total_ms", j["total_ms"]}, {"stages_ms", j["stages_ms"]},
                         {"dlos", det.value().dlos.size()}};
+  if (foreground == 0) record["note"] = in.path.string() + ": the mask is empty: no DLO (outputs written)";
+  return record;
 }
 
 int run(Options o) {
@@ -198,7 +207,12 @@ int run(Options o) {
       ++failed;
       std::cerr << (progress && tty ? "\n" : "") << "mbest detect: " << r.error().message << "\n";
     } else {
-      records.push_back(r.value());
+      nlohmann::json record = std::move(r).value();
+      if (record.contains("note")) {
+        std::cerr << (progress && tty ? "\n" : "") << "mbest detect: note: " << record["note"].get<std::string>() << "\n";
+        record.erase("note");
+      }
+      records.push_back(std::move(record));
     }
     const bool log_line = (i + 1) % std::max<size_t>(1, list.size() / 10) == 0 || i + 1 == list.size();
     if (progress && (tty || log_line))

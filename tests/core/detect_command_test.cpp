@@ -108,6 +108,19 @@ TEST_F(DetectCommand, EmptyMaskGivesValidEmptyOutputs) {
   EXPECT_EQ(cv::countNonZero(labels), 0);
   std::ifstream js(dir / "out/good.json");
   EXPECT_TRUE(nlohmann::json::parse(js)["dlos"].empty());
+  EXPECT_NE(r.output.find("the mask is empty"), std::string::npos) << r.output;
+}
+
+// A mask covering every pixel is a segmentation gone wrong, not a frame without DLOs: the
+// image fails with a message naming it, and nothing is written for it.
+TEST_F(DetectCommand, MaskCoveringEveryPixelIsAFailedImage) {
+  cv::imwrite((dir / "mask.png").string(), cv::Mat(120, 200, CV_8UC1, cv::Scalar(255)));
+  CommandRun r = mbest("detect " + (dir / "data/a/images/good.png").string() + " --mask " + (dir / "mask.png").string() +
+                " --out " + (dir / "out").string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("good.png: the mask covers every pixel (200x120)"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out/good.labels.png"));
+  EXPECT_FALSE(fs::exists(dir / "out/good.json"));
 }
 
 TEST_F(DetectCommand, UnwritableOutputFolderIsAClearError) {
