@@ -597,9 +597,56 @@ std::vector<std::vector<double>> inner_route_bending(const SkeletonGraph& g, con
 // one per exit, only costs time.
 constexpr int kMaxRouteExits = 64;
 
+namespace {
+
+// Is a point at angle `x` on the arc from angle `from` counter-clockwise to `to`?
+bool on_arc(float from, float to, float x) {
+  const float turn = 2 * static_cast<float>(M_PI);
+  return std::fmod(x - from + 2 * turn, turn) < std::fmod(to - from + 2 * turn, turn);
+}
+
+// The least-cost pairing of a region whose four exits are a loop's two ends and two exits of
+// other branches, about as wide as the loop, may join them without crossing (an omega: the
+// rod runs into the loop and out of it on the same side, the loop touching its neck). A rod
+// that makes a loop crosses itself there, and on a tight loop the exits' fitted tangents
+// bend with the loop, so the two pairings cost about the same. The crossing one (the pairs'
+// exits interleaved round the region's centre) is taken when it costs at most `margin` more.
+void prefer_loop_crossing(const CrossingRegion& region, const std::vector<BranchTangent>& t,
+                          const PairWeights& weights, double margin, std::vector<std::pair<int, int>>& pairing) {
+  if (region.exits.size() != 4 || pairing.size() != 2 || margin <= 0) return;
+  int la = -1, lb = -1;
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b)
+      if (region.exits[a].branch == region.exits[b].branch) la = a, lb = b;
+  if (la < 0) return;
+  int oa = -1, ob = -1;
+  for (int k = 0; k < 4; ++k)
+    if (k != la && k != lb) (oa < 0 ? oa : ob) = k;
+  if (region.exits[oa].branch == region.exits[ob].branch) return;
+  const float loop_radius = 0.5f * (t[la].radius + t[lb].radius);
+  for (int k : {oa, ob})
+    if (t[k].radius > 1.5f * loop_radius || 1.5f * t[k].radius < loop_radius) return;
+  int pa = -1;  // la's partner
+  for (const auto& [i, j] : pairing)
+    if (i == la || j == la) pa = i == la ? j : i;
+  if (pa != oa && pa != ob) return;  // the loop closed on itself: a ring, not this case
+  const int pb = pa == oa ? ob : oa;
+  float angle[4];
+  for (int k = 0; k < 4; ++k) {
+    const cv::Point2f d = t[k].point - region.centre;
+    angle[k] = std::atan2(d.y, d.x);
+  }
+  if (on_arc(angle[la], angle[pa], angle[lb]) != on_arc(angle[la], angle[pa], angle[pb])) return;  // crosses
+  const double now = pair_cost(t[la], t[pa], weights) + pair_cost(t[lb], t[pb], weights);
+  const double crossing = pair_cost(t[la], t[pb], weights) + pair_cost(t[lb], t[pa], weights);
+  if (crossing <= now + margin) pairing = {{la, pb}, {lb, pa}};
+}
+
+}  // namespace
+
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, TangentCache& cache,
                                     double fold_energy, double unlike_energy, double unlike_fold_energy,
-                                    RouteCosts route) {
+                                    RouteCosts route, double loop_cross_margin) {
   const PairWeights weights = cache.setup().weights;
   // The folds below are weighed by shape: bending energy, and width where it counts.
   const PairWeights shape{0, weights.width};
@@ -639,6 +686,7 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
     } else {
       pairing = min_energy_pairing(tangents, region.exits, weights);
     }
+    prefer_loop_crossing(region, tangents, weights, loop_cross_margin, pairing);
     for (const auto& [i, j] : pairing) {
       if (unlike(tangents[i], tangents[j], unlike_energy)) continue;  // both strands end here
       passages.push_back(make_passage(r, region.exits[i], tangents[i], region.exits[j], tangents[j]));

@@ -493,6 +493,7 @@ constexpr ConfigField kConfigFields[] = {
     {"loop_closing_cost", &DetectorConfig::loop_closing_cost, 0, 1000},
     {"loop_reopen_cost", &DetectorConfig::loop_reopen_cost, 0, 1000},
     {"loop_reopen_own_colour_cost", &DetectorConfig::loop_reopen_own_colour_cost, 0, 1000},
+    {"loop_cross_margin", &DetectorConfig::loop_cross_margin, 0, 1000},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
@@ -599,7 +600,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
                                   config.merge_gain, config.wide_radii * r, spur_length);
     auto built = build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy,
                                 config.colour_fold_energy,
-                                {static_cast<int>(config.route_min_exits), config.route_weight});
+                                {static_cast<int>(config.route_min_exits), config.route_weight},
+                                config.loop_cross_margin);
     keep_passages_on_mask(built, mask, r, kMaxOffMask);
     return built;
   });

@@ -274,6 +274,12 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // cheapest route between them through the inner branches (inner_route_bending). All pairs
 // across a cluster share one chord, so their Hermite energies add up alike for any
 // pairing; the skeleton inside shows how each strand runs. min_exits 0: never.
+//
+// A region whose four exits are a loop's two ends and two exits of other branches within
+// 1.5 times the loop's width, paired without crossing (the rod running into the loop and out
+// of it on one side, an omega), is paired crossing instead when that costs at most
+// `loop_cross_margin` more: a rod that makes a loop crosses itself, and the tangents of a
+// tight loop's ends bend with it. 0: never.
 struct RouteCosts {
   int min_exits = 0;
   double weight = 1;
@@ -283,7 +289,7 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
                                     double fold_energy = std::numeric_limits<double>::infinity(),
                                     double unlike_energy = std::numeric_limits<double>::infinity(),
                                     double unlike_fold_energy = std::numeric_limits<double>::infinity(),
-                                    RouteCosts route = {});
+                                    RouteCosts route = {}, double loop_cross_margin = 0);
 
 // For every two exits of `region` (tangents `exits`, in the order of region.exits) at two
 // different nodes of it, the bending of the cheapest route between them through its inner
