@@ -111,6 +111,31 @@ inline rc::Gen<SceneSpec> any_scene() {
   });
 }
 
+// One rod (preset s1's tube, or a thinner `cables` one) with one self-loop, kept inside the
+// picture, complexity 0-0.4, the loop's size 2-6 rod widths (shrinking toward 6: rounder).
+inline rc::Gen<SceneSpec> loop() {
+  return rc::gen::apply(
+      [](bool thin, double complexity, double loop_size, std::uint64_t seed) {
+        SceneSpec s;
+        s.property = "loop";
+        s.preset = thin ? "cables" : "s1";
+        s.overrides = {{"scene",
+                        {{"rods", range(1, 1)},
+                         {"complexity", range(complexity, complexity)},
+                         {"length_px", range(700, 900)},
+                         {"self_loop", 1},
+                         {"loop_size", range(loop_size, loop_size)},
+                         {"rings", 0},
+                         {"parallel_strands", 0},
+                         {"planned_crossings", 0},
+                         {"triple_points", 0},
+                         {"leave_image", 0}}}};
+        s.seed = seed;
+        return s;
+      },
+      rc::gen::arbitrary<bool>(), knob(0, 0.4, 40), knob(6, 2, 40), seed());
+}
+
 // One ring (preset s1's tube) of diameter 80-200 px, complexity 0-0.65.
 inline rc::Gen<SceneSpec> ring() {
   return rc::gen::apply(

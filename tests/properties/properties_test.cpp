@@ -75,6 +75,7 @@ TEST(Properties, Equivariance) { run_property(gen::equivariance(), 30); }
 TEST(Properties, AnySceneWellFormed) { run_property(gen::any_scene(), 50); }
 TEST(Properties, RingIsOneClosedDlo) { run_property(gen::ring(), 30); }
 TEST(Properties, TriplePointThreeDlos) { run_property(gen::triple(), 30); }
+TEST(Properties, LoopIsOneDloCrossingItself) { run_property(gen::loop(), 30); }
 
 }  // namespace
 }  // namespace mbest::properties

@@ -20,8 +20,8 @@ namespace {
 
 using nlohmann::json;
 
-const std::vector<std::string> kProperties = {"two_rods", "one_rod", "equivariance",
-                                              "any_scene", "ring",   "triple"};
+const std::vector<std::string> kProperties = {"two_rods", "one_rod", "equivariance", "any_scene",
+                                              "ring",     "triple",  "loop"};
 const std::vector<std::string> kTransforms = {"none",   "rot90",  "rot180",   "rot270",
                                               "flip_x", "flip_y", "transpose"};
 
@@ -91,6 +91,20 @@ double self_approach(const synth::RodAnnotation& rod, double min_arc) {
       if (rod.closed && n - (j - i) < min_arc) continue;
       best = std::min(best, cv::norm(c[i] - c[j]));
     }
+  }
+  return best;
+}
+
+// Closest approach, as self_approach, of two centerline samples not both within `clear` px
+// of `at`: the rod's self-contact away from a crossing at `at`.
+double self_approach_away_from(const synth::RodAnnotation& rod, double min_arc, cv::Point2d at, double clear) {
+  const auto& c = rod.centerline;
+  const int n = static_cast<int>(c.size());
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; i += 2) {
+    const bool near_i = cv::norm(c[i] - at) < clear;
+    for (int j = i + static_cast<int>(min_arc); j < n; j += 2)
+      if (!(near_i && cv::norm(c[j] - at) < clear)) best = std::min(best, cv::norm(c[i] - c[j]));
   }
   return best;
 }
@@ -370,6 +384,42 @@ Verdict check_ring(const SceneSpec& spec) {
   return v;
 }
 
+Verdict check_loop(const SceneSpec& spec) {
+  Verdict v;
+  Result<Case> run = run_case(spec);
+  if (!run) return Verdict{"", {run.error().message}};
+  const Case& c = run.value();
+  const auto& a = gt(c);
+  if (a.rods.size() != 1 || a.rods[0].closed) return Verdict{"scene is not one open rod", {}};
+  const synth::RodAnnotation& rod = a.rods[0];
+  const double w = rod.width_px;
+  if (!inside_with_margin(rod, a.width, a.height, w)) return Verdict{"rod not a width inside the picture", {}};
+  if (a.crossings.size() != 1) return Verdict{"rod crosses itself " + std::to_string(a.crossings.size()) + " times", {}};
+  const synth::CrossingAnnotation& x = a.crossings[0];
+  // No other self-contact: away from the crossing, strands 3 widths of arc apart stay clear
+  // of each other (their bodies a width apart), so the mask shows the loop's hole.
+  if (self_approach_away_from(rod, 3 * w, x.location, 3 * w) < 2 * w)
+    return Verdict{"the rod also touches itself away from its crossing", {}};
+  if (c.detection.dlos.size() != 1) {
+    v.failures.push_back("expected 1 DLO, got " + std::to_string(c.detection.dlos.size()));
+    return v;
+  }
+  if (c.detection.dlos[0].closed) v.failures.push_back("the DLO is closed");
+  Result<validate::DiceScore> dice = validate::matched_dice(gt_labels(c), c.detection.labels);
+  if (!dice) return Verdict{"", {dice.error().message}};
+  if (dice.value().matched_dice[0] < kMinRodDice)
+    v.failures.push_back("matched DICE " + fmt(dice.value().matched_dice[0], 4) + " < " + fmt(kMinRodDice));
+  int near = 0;
+  for (const Crossing& d : c.detection.crossings)
+    near += d.dlos.size() == 2 && d.dlos[0] == d.dlos[1] && cv::norm(cv::Point2d(d.location) - x.location) <= 2 * w;
+  if (c.detection.crossings.size() != 1 || near != 1)
+    v.failures.push_back(std::to_string(c.detection.crossings.size()) + " detected crossings, " +
+                         std::to_string(near) + " of them a self-crossing within 2 widths of (" +
+                         fmt(x.location.x, 4) + ", " + fmt(x.location.y, 4) + "), " + fmt(x.angle_deg) +
+                         " deg; expected that one only");
+  return v;
+}
+
 Verdict check_triple(const SceneSpec& spec) {
   Verdict v;
   Result<Case> run = run_case(spec);
@@ -507,6 +557,7 @@ Verdict check(const SceneSpec& spec) {
   if (spec.property == "any_scene") return check_any_scene(spec);
   if (spec.property == "ring") return check_ring(spec);
   if (spec.property == "triple") return check_triple(spec);
+  if (spec.property == "loop") return check_loop(spec);
   return Verdict{"", {"unknown property '" + spec.property + "'"}};
 }
 

@@ -20,7 +20,8 @@
 namespace mbest::properties {
 
 struct SceneSpec {
-  // The check the spec is for: two_rods, one_rod, equivariance, any_scene, ring, triple.
+  // The check the spec is for: two_rods, one_rod, equivariance, any_scene, ring, triple,
+  // loop.
   std::string property;
   std::string preset = "s2";
   nlohmann::json overrides = nlohmann::json::object();  // synth config overrides
@@ -78,6 +79,9 @@ Verdict check(const SceneSpec& spec);
 //   ring: one closed rod fully inside the picture -> one closed DLO.
 //   triple: three rods through one point (and no crossing under 20 deg elsewhere) -> three
 //     DLOs, pairing correct at every GT crossing the metric can assess.
+//   loop: one rod inside the picture that crosses itself once (a self-loop) and touches
+//     itself nowhere else -> one open DLO, matched DICE >= kMinRodDice, and one detected
+//     crossing: a self-crossing of that DLO within two rod widths of the true one.
 constexpr double kMinRodDice = 0.97;
 constexpr double kArcJitterWidths = 0.5;
 constexpr double kMaxEquivarianceDisagreement = 0.01;
