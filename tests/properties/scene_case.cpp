@@ -179,16 +179,23 @@ Verdict check_two_rods(const SceneSpec& spec) {
   return v;
 }
 
+// The premise of one_rod and loop: one open rod, a width inside the picture. Empty when it
+// holds, else why the scene is discarded.
+std::string not_one_open_rod_inside(const synth::SceneAnnotation& a) {
+  if (a.rods.size() != 1 || a.rods[0].closed) return "scene is not one open rod";
+  if (!inside_with_margin(a.rods[0], a.width, a.height, a.rods[0].width_px)) return "rod not a width inside the picture";
+  return "";
+}
+
 Verdict check_one_rod(const SceneSpec& spec) {
   Verdict v;
   Result<Case> run = run_case(spec);
   if (!run) return Verdict{"", {run.error().message}};
   const Case& c = run.value();
   const auto& a = gt(c);
-  if (a.rods.size() != 1 || a.rods[0].closed) return Verdict{"scene is not one open rod", {}};
+  if (std::string why = not_one_open_rod_inside(a); !why.empty()) return Verdict{why, {}};
   const synth::RodAnnotation& rod = a.rods[0];
   const double w = rod.width_px;
-  if (!inside_with_margin(rod, a.width, a.height, w)) return Verdict{"rod not a width inside the picture", {}};
   // No self-contact: strands 3 widths of arc apart stay a width clear of each other.
   if (self_approach(rod, 3 * w) < 2 * w) return Verdict{"rod touches itself", {}};
   if (c.detection.dlos.size() != 1) {
@@ -390,10 +397,9 @@ Verdict check_loop(const SceneSpec& spec) {
   if (!run) return Verdict{"", {run.error().message}};
   const Case& c = run.value();
   const auto& a = gt(c);
-  if (a.rods.size() != 1 || a.rods[0].closed) return Verdict{"scene is not one open rod", {}};
+  if (std::string why = not_one_open_rod_inside(a); !why.empty()) return Verdict{why, {}};
   const synth::RodAnnotation& rod = a.rods[0];
   const double w = rod.width_px;
-  if (!inside_with_margin(rod, a.width, a.height, w)) return Verdict{"rod not a width inside the picture", {}};
   if (a.crossings.size() != 1) return Verdict{"rod crosses itself " + std::to_string(a.crossings.size()) + " times", {}};
   const synth::CrossingAnnotation& x = a.crossings[0];
   // No other self-contact: away from the crossing, strands 3 widths of arc apart stay clear
