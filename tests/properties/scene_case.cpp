@@ -81,30 +81,20 @@ bool inside_with_margin(const synth::RodAnnotation& rod, int w, int h, double ma
 }
 
 // Closest approach of two centerline samples at least `min_arc` samples apart along the rod
-// (ring: either way round): the rod's self-contact, in px between centres.
-double self_approach(const synth::RodAnnotation& rod, double min_arc) {
-  const auto& c = rod.centerline;
-  const int n = static_cast<int>(c.size());
-  double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < n; i += 2) {
-    for (int j = i + static_cast<int>(min_arc); j < n; j += 2) {
-      if (rod.closed && n - (j - i) < min_arc) continue;
-      best = std::min(best, cv::norm(c[i] - c[j]));
-    }
-  }
-  return best;
-}
-
-// Closest approach, as self_approach, of two centerline samples not both within `clear` px
-// of `at`: the rod's self-contact away from a crossing at `at`.
-double self_approach_away_from(const synth::RodAnnotation& rod, double min_arc, cv::Point2d at, double clear) {
+// (ring: either way round): the rod's self-contact, in px between centres. With `clear` > 0,
+// pairs of samples both within `clear` px of `at` are left out: the contact away from a
+// crossing there.
+double self_approach(const synth::RodAnnotation& rod, double min_arc, cv::Point2d at = {}, double clear = 0) {
   const auto& c = rod.centerline;
   const int n = static_cast<int>(c.size());
   double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i < n; i += 2) {
     const bool near_i = cv::norm(c[i] - at) < clear;
-    for (int j = i + static_cast<int>(min_arc); j < n; j += 2)
-      if (!(near_i && cv::norm(c[j] - at) < clear)) best = std::min(best, cv::norm(c[i] - c[j]));
+    for (int j = i + static_cast<int>(min_arc); j < n; j += 2) {
+      if (rod.closed && n - (j - i) < min_arc) continue;
+      if (near_i && cv::norm(c[j] - at) < clear) continue;
+      best = std::min(best, cv::norm(c[i] - c[j]));
+    }
   }
   return best;
 }
@@ -404,14 +394,14 @@ Verdict check_loop(const SceneSpec& spec) {
   const synth::CrossingAnnotation& x = a.crossings[0];
   // No other self-contact: away from the crossing, strands 3 widths of arc apart stay clear
   // of each other (their bodies a width apart), so the mask shows the loop's hole.
-  if (self_approach_away_from(rod, 3 * w, x.location, 3 * w) < 2 * w)
+  if (self_approach(rod, 3 * w, x.location, 3 * w) < 2 * w)
     return Verdict{"the rod also touches itself away from its crossing", {}};
   if (c.detection.dlos.size() != 1) {
     v.failures.push_back("expected 1 DLO, got " + std::to_string(c.detection.dlos.size()));
     return v;
   }
   if (c.detection.dlos[0].closed) v.failures.push_back("the DLO is closed");
-  Result<validate::DiceScore> dice = validate::matched_dice(gt_labels(c), c.detection.labels);
+  Result<validate::DiceScore> dice = dice_of(c);
   if (!dice) return Verdict{"", {dice.error().message}};
   if (dice.value().matched_dice[0] < kMinRodDice)
     v.failures.push_back("matched DICE " + fmt(dice.value().matched_dice[0], 4) + " < " + fmt(kMinRodDice));
