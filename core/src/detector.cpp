@@ -494,6 +494,7 @@ constexpr ConfigField kConfigFields[] = {
     {"loop_reopen_cost", &DetectorConfig::loop_reopen_cost, 0, 1000},
     {"loop_reopen_own_colour_cost", &DetectorConfig::loop_reopen_own_colour_cost, 0, 1000},
     {"loop_cross_margin", &DetectorConfig::loop_cross_margin, 0, 1000},
+    {"small_loop_radii", &DetectorConfig::small_loop_radii, 0, 1000},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
@@ -591,7 +592,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   auto regions = stage("junctions", [&] {
     return group_junctions(graph, config.merge_radii * r, config.epsilon_radii * r,
                            config.wide_radii * r, config.through_radii * r,
-                           [&](const std::vector<BranchEnd>& exits) { return tangents.least_cost(exits); });
+                           [&](const std::vector<BranchEnd>& exits) { return tangents.least_cost(exits); },
+                           config.small_loop_radii);
   });
   auto passages = stage("bending", [&] {
     pair_lone_ys(graph, regions, tangents, config.epsilon_radii * r, config.wide_radii * r,

@@ -153,11 +153,35 @@ void pair_ys_through_crossings(SkeletonGraph& g, UnionFind& uf, std::vector<int>
   }
 }
 
+// Branch `i`, leaving and re-entering one crossing, is a rod's small self-loop rather than
+// a strip round a hole in the mask: the crossing has two other exits (the rod's way in and
+// out), the loop is about as wide as they are (a hole splits a rod into two strips each
+// narrower than it), and it is at least `min_length_radii` of its own radius long (a loop
+// round a hole the mask shows).
+bool small_self_loop(const SkeletonGraph& g, UnionFind& uf, int i, double min_length_radii) {
+  const Branch& loop = g.branches[i];
+  if (min_length_radii <= 0 || loop.radius.empty()) return false;
+  const int root = uf.find(loop.node[0]);
+  std::vector<float> exit_radius;
+  for (int k = 0; k < static_cast<int>(g.branches.size()); ++k) {
+    const Branch& b = g.branches[k];
+    if (!b.alive || k == i) continue;
+    for (int s = 0; s < 2; ++s)
+      if (g.nodes[b.node[s]].kind == Node::Kind::junction && uf.find(b.node[s]) == root)
+        exit_radius.push_back(middle_value(b.radius));
+  }
+  if (exit_radius.size() != 2) return false;
+  const float own = middle_value(loop.radius);
+  return own >= kLoopWidthShare * std::min(exit_radius[0], exit_radius[1]) &&
+         loop.length >= min_length_radii * own;
+}
+
 }  // namespace
 
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_length, double epsilon,
                                             double wide_length, double through_length,
-                                            const ExitsCost& pairing_cost) {
+                                            const ExitsCost& pairing_cost,
+                                            double small_loop_radii) {
   const int n_nodes = static_cast<int>(g.nodes.size());
   UnionFind uf(n_nodes);
   auto make_inner = [&](Branch& b) { b.alive = false; };
@@ -168,6 +192,7 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
       make_inner(b);
     }
 
+  const auto index_of = [&](const Branch& b) { return static_cast<int>(&b - g.branches.data()); };
   // Exits per crossing, with small cycles folded in.
   auto degree_of = [&](std::vector<int>& degree) {
     degree.assign(n_nodes, 0);
@@ -179,7 +204,8 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
         continue;
       }
       const int r0 = uf.find(b.node[0]), r1 = uf.find(b.node[1]);
-      if (r0 == r1 && b.length <= 4 * merge_length) {
+      if (r0 == r1 && b.length <= 4 * merge_length &&
+          !small_self_loop(g, uf, index_of(b), small_loop_radii)) {
         make_inner(b);
         continue;
       }

@@ -106,5 +106,59 @@ TEST(Junctions, YsThroughACrossingAlongAThinRodLyingOnAThickOne) {
   }
 }
 
+// The junction grouping as the detector does it (junctions within 2 r are one), with
+// `small_loop_radii`; r is the widest rod's radius.
+std::vector<CrossingRegion> detector_regions(const cv::Mat& mask, double small_loop_radii) {
+  Skeleton s = skeletonize(mask);
+  SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
+  const float r = measure_radii(g, mask);
+  prune_split_ends(g, 2 * r, mask.size());
+  const PairingSetup setup{r, 3.0 * r, cv::Mat(), {0}};
+  TangentCache tangents(g, setup);
+  return group_junctions(g, 2 * r, 10 * r, 40 * r, 30 * r,
+                         [&](const std::vector<BranchEnd>& exits) { return tangents.least_cost(exits); },
+                         small_loop_radii);
+}
+
+// Does a crossing region have both ends of one branch among its exits (a loop)?
+bool has_loop(const std::vector<CrossingRegion>& regions) {
+  for (const CrossingRegion& r : regions)
+    for (const BranchEnd& a : r.exits)
+      for (const BranchEnd& b : r.exits)
+        if (a.branch == b.branch && a.side != b.side) return true;
+  return false;
+}
+
+TEST(Junctions, AThinRodsSmallLoopAmongThickRodsIsKept) {
+  // A 4 px rod crosses itself at 90 degrees at P = (150, 150): two lines through P, tangent
+  // to a circle of radius 6 above it, joined by the circle's 270 degree arc. Its skeleton
+  // loop (about 40 px) is shorter than 4 times the merge length of the 12 px rod lying
+  // apart, the length below which a branch re-entering its junction is taken for a hole.
+  cv::Mat mask = cv::Mat::zeros(220, 300, CV_8UC1);
+  test::draw_rod(mask, {{20, 30}, {280, 30}}, 12);
+  const cv::Point2d p(150, 150), o(150, 150 - 6 * std::sqrt(2.0));
+  const double rho = 6, h = rho / std::sqrt(2.0);
+  std::vector<cv::Point> path{cv::Point(60, 240), cv::Point(p), cv::Point(p + cv::Point2d(h, -h))};
+  for (int k = 0; k <= 54; ++k) {  // from the right tangent point round the top to the left one
+    const double a = M_PI / 4 - k * (1.5 * M_PI / 54);
+    path.emplace_back(cv::Point2d(o.x + rho * std::cos(a), o.y + rho * std::sin(a)));
+  }
+  path.push_back(cv::Point(p));
+  path.push_back(cv::Point(240, 240));
+  test::draw_rod(mask, path, 4);
+  EXPECT_TRUE(has_loop(detector_regions(mask, 9)));
+  EXPECT_FALSE(has_loop(detector_regions(mask, 0)));
+}
+
+TEST(Junctions, AHoleInARodIsNoLoop) {
+  // A 14 px rod with a hole 36 px long and 3 px wide: the skeleton splits round it in two
+  // strips each narrower than the rod, long enough to pass the loop length test.
+  cv::Mat mask = cv::Mat::zeros(200, 400, CV_8UC1);
+  test::draw_rod(mask, {{20, 100}, {380, 100}}, 14);
+  cv::ellipse(mask, cv::Point(200, 100), cv::Size(18, 1), 0, 0, 360, cv::Scalar(0), cv::FILLED);
+  const auto regions = detector_regions(mask, 1);
+  EXPECT_FALSE(has_loop(regions));
+}
+
 }  // namespace
 }  // namespace mbest

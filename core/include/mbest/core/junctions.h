@@ -23,7 +23,10 @@ struct CrossingRegion {
 // 1. junctions joined by a branch no longer than `merge_length` (the detector passes 2 r) are one
 //    crossing (three DLOs through one point give several such small junctions);
 // 2. a branch that leaves and re-enters the same crossing within 4 `merge_length` is inside
-//    it (a hole in the mask makes such a small cycle);
+//    it (a hole in the mask makes such a small cycle), unless it is a rod's small self-loop:
+//    the crossing's only other exits are two, the loop is at least kLoopWidthShare as wide
+//    as the narrower of them (the strips round a hole are each narrower than the rod), and
+//    it is at least `small_loop_radii` times its own radius long (0: never);
 // 3. crossings with an odd number of exits (Ys) are paired, while the branch joining them is
 //    no longer than `epsilon` (the paper's 10 r), or, up to `wide_length`, while it is wider
 //    than the DLOs around it (mean radius at least 1.25 times theirs): two strands crossing at a shallow angle theta overlap over about
@@ -38,6 +41,10 @@ struct CrossingRegion {
 //    across a shallow crossing makes a Y, an X and a Y) are one crossing with those between
 //    them, when the path is no longer than `through_length`.
 // Branches made inner are marked dead in `graph`.
+// How wide a small cycle at a crossing must be, against the crossing's other exits, to be
+// taken for a rod's own loop (step 2).
+inline constexpr double kLoopWidthShare = 0.75;
+
 // Where two strands overlap or lie side by side, the mask is wider than either: a branch
 // whose radius is at least this many times that of the branches around it carries two.
 inline constexpr double kTwoStrandWidth = 1.25;
@@ -52,6 +59,7 @@ using ExitsCost = std::function<double(const std::vector<BranchEnd>& exits)>;
 std::vector<CrossingRegion> group_junctions(SkeletonGraph& graph, double merge_length,
                                             double epsilon, double wide_length,
                                             double through_length,
-                                            const ExitsCost& pairing_cost = {});
+                                            const ExitsCost& pairing_cost = {},
+                                            double small_loop_radii = 0);
 
 }  // namespace mbest
