@@ -39,6 +39,7 @@ struct EvalArgs {
   int threads = 2;
   int worst = 8;
   int failed_crossings = 2;
+  bool quiet = false;
 };
 
 std::string command_line(const EvalArgs& a) {
@@ -56,10 +57,10 @@ std::string command_line(const EvalArgs& a) {
 }
 
 // Progress on stderr: a line redrawn in place on a terminal; otherwise, for the slow --run,
-// a line every tenth of the images.
-std::function<void(int, int)> progress_printer(bool run) {
+// a line every tenth of the images. None with --quiet.
+std::function<void(int, int)> progress_printer(bool run, bool quiet) {
   const bool tty = ::isatty(STDERR_FILENO);
-  if (!tty && !run) return {};
+  if (quiet || (!tty && !run)) return {};
   return [tty](int done, int total) {
     if (tty) {
       std::fprintf(stderr, "\reval: %d/%d images", done, total);
@@ -118,7 +119,7 @@ int run_eval(const EvalArgs& a) {
   options.threads = a.threads;
   options.keep_worst = a.report.empty() ? 0 : a.worst;
   options.keep_failed_crossings = a.report.empty() ? 0 : a.failed_crossings;
-  Result<v::Evaluation> evaluation = v::evaluate(dataset.value(), options, progress_printer(a.run));
+  Result<v::Evaluation> evaluation = v::evaluate(dataset.value(), options, progress_printer(a.run, a.quiet));
   if (!evaluation) {
     std::cerr << "mbest eval: " << evaluation.error().message << "\n";
     return kEvalBadInput;
@@ -209,6 +210,7 @@ void add_eval_command(CLI::App& app, int* exit_code) {
       ->needs(run);
   cmd->add_option("--report", a->report, "write report.json, report.md and report.html into DIR");
   cmd->add_flag("--json", a->json, "print report.json to stdout instead of the table");
+  cmd->add_flag("--quiet,-q", a->quiet, "no progress line on stderr");
   cmd->add_option("--min-dice", a->min_dice,
                   "exit with code 2 if any tier's strict DICE (percent) is below this")
       ->check(CLI::Range(0.0, 100.0));

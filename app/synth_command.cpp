@@ -115,7 +115,7 @@ void add_synth_command(CLI::App& app, int* exit_code) {
   cmd->add_option("--jobs", args->jobs, "worker threads")->capture_default_str()->check(CLI::Range(1, 256));
   cmd->add_option("--shard", args->shard, "make only scenes i with i % n == index, as index/n")->capture_default_str();
   cmd->add_option("--split", args->split, "split folder name under OUT")->capture_default_str();
-  cmd->add_flag("--quiet", args->quiet, "no progress line on stderr");
+  cmd->add_flag("--quiet,-q", args->quiet, "no progress line on stderr");
   cmd->callback([args, exit_code]() { *exit_code = run_synth(*args); });
 }
 

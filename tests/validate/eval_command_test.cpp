@@ -171,6 +171,22 @@ TEST(EvalCommand, RunTakesTheGeneratorsMasksWhereTheDataSetHasThem) {
   EXPECT_NE(missing.err.find("semantic/000000.png"), std::string::npos) << missing.err;
 }
 
+TEST(EvalCommand, RunReportsProgressUnlessQuiet) {
+  const fs::path root = grey_synth_dataset();
+  const std::string data = (root / "data").string();
+  // Not a terminal: a line per tenth of the images, the last one at the end.
+  const Outcome loud = mbest("eval " + data + " --run");
+  ASSERT_EQ(loud.code, 0) << loud.err;
+  EXPECT_NE(loud.err.find("eval: "), std::string::npos) << loud.err;
+  for (const char* flag : {" --quiet", " -q"}) {
+    const Outcome quiet = mbest("eval " + data + " --run" + flag);
+    ASSERT_EQ(quiet.code, 0) << quiet.err;
+    EXPECT_EQ(quiet.err, "") << flag;
+    // The same tables (the first line ends in the time taken).
+    EXPECT_EQ(quiet.out.substr(quiet.out.find('\n')), loud.out.substr(loud.out.find('\n'))) << flag;
+  }
+}
+
 TEST(EvalCommand, RunTakesDetectorConstantsInlineOrFromAFile) {
   const fs::path root = grey_synth_dataset();
   const std::string data = (root / "data").string();
