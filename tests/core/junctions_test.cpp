@@ -10,8 +10,10 @@ namespace mbest {
 namespace {
 
 // The junction grouping of `mask`'s skeleton, Y-pairs chosen by pairing cost (bending
-// energy alone) when `by_cost`, by distance otherwise.
-std::vector<CrossingRegion> regions_of(const cv::Mat& mask, bool by_cost = true) {
+// energy alone) when `by_cost`, by distance otherwise; junctions within `merge_radii` r are
+// one (the detector takes 2), and small self-loops are kept by `small_loop_radii` (0: none).
+std::vector<CrossingRegion> regions_of(const cv::Mat& mask, bool by_cost = true, double merge_radii = 1,
+                                       double small_loop_radii = 0) {
   Skeleton s = skeletonize(mask);
   SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
   const float r = measure_radii(g, mask);
@@ -20,9 +22,8 @@ std::vector<CrossingRegion> regions_of(const cv::Mat& mask, bool by_cost = true)
   TangentCache tangents(g, setup);
   ExitsCost cost;
   if (by_cost) cost = [&](const std::vector<BranchEnd>& exits) { return tangents.least_cost(exits); };
-  return group_junctions(g, r, 10 * r, 40 * r, 30 * r, cost);
+  return group_junctions(g, merge_radii * r, 10 * r, 40 * r, 30 * r, cost, small_loop_radii);
 }
-
 
 TEST(Junctions, NearParallelCrossingTwoYsBecomeOneCrossing) {
   for (double angle : {12.0, 18.0, 30.0}) {
@@ -106,18 +107,10 @@ TEST(Junctions, YsThroughACrossingAlongAThinRodLyingOnAThickOne) {
   }
 }
 
-// The junction grouping as the detector does it (junctions within 2 r are one), with
-// `small_loop_radii`; r is the widest rod's radius.
+// The junction grouping as the detector does it (junctions within 2 r are one, r the widest
+// rod's radius), with `small_loop_radii`.
 std::vector<CrossingRegion> detector_regions(const cv::Mat& mask, double small_loop_radii) {
-  Skeleton s = skeletonize(mask);
-  SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
-  const float r = measure_radii(g, mask);
-  prune_split_ends(g, 2 * r, mask.size());
-  const PairingSetup setup{r, 3.0 * r, cv::Mat(), {0}};
-  TangentCache tangents(g, setup);
-  return group_junctions(g, 2 * r, 10 * r, 40 * r, 30 * r,
-                         [&](const std::vector<BranchEnd>& exits) { return tangents.least_cost(exits); },
-                         small_loop_radii);
+  return regions_of(mask, true, 2, small_loop_radii);
 }
 
 // Does a crossing region have both ends of one branch among its exits (a loop)?
