@@ -153,27 +153,18 @@ void pair_ys_through_crossings(SkeletonGraph& g, UnionFind& uf, std::vector<int>
   }
 }
 
-// Branch `i`, leaving and re-entering one crossing, is a rod's small self-loop rather than
-// a strip round a hole in the mask: the crossing has two other exits (the rod's way in and
-// out), the loop is about as wide as they are (a hole splits a rod into two strips each
-// narrower than it), and it is at least `min_length_radii` of its own radius long (a loop
-// round a hole the mask shows).
-bool small_self_loop(const SkeletonGraph& g, UnionFind& uf, int i, double min_length_radii) {
-  const Branch& loop = g.branches[i];
-  if (min_length_radii <= 0 || loop.radius.empty()) return false;
-  const int root = uf.find(loop.node[0]);
-  std::vector<float> exit_radius;
-  for (int k = 0; k < static_cast<int>(g.branches.size()); ++k) {
-    const Branch& b = g.branches[k];
-    if (!b.alive || k == i) continue;
-    for (int s = 0; s < 2; ++s)
-      if (g.nodes[b.node[s]].kind == Node::Kind::junction && uf.find(b.node[s]) == root)
-        exit_radius.push_back(middle_value(b.radius));
-  }
-  if (exit_radius.size() != 2) return false;
+// `loop`, a branch leaving and re-entering one crossing whose other exits are `others`, is a
+// rod's small self-loop rather than a strip round a hole in the mask: those exits are two
+// (the rod's way in and out), the loop is about as wide as they are (a hole splits a rod
+// into two strips each narrower than it), and it is at least `min_length_radii` of its own
+// radius long (a loop round a hole the mask shows).
+bool small_self_loop(const SkeletonGraph& g, const Branch& loop, const std::vector<BranchEnd>& others,
+                     double min_length_radii) {
+  if (loop.radius.empty() || others.size() != 2) return false;
   const float own = middle_value(loop.radius);
-  return own >= kLoopWidthShare * std::min(exit_radius[0], exit_radius[1]) &&
-         loop.length >= min_length_radii * own;
+  const float narrower = std::min(middle_value(g.branches[others[0].branch].radius),
+                                  middle_value(g.branches[others[1].branch].radius));
+  return narrower > 0 && own >= kLoopWidthShare * narrower && loop.length >= min_length_radii * own;
 }
 
 }  // namespace
@@ -192,7 +183,19 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
       make_inner(b);
     }
 
-  const auto index_of = [&](const Branch& b) { return static_cast<int>(&b - g.branches.data()); };
+  // The exits of the crossings `roots` as they stand, less branch `skip`.
+  const auto exits_of = [&](std::initializer_list<int> roots, int skip) {
+    std::vector<BranchEnd> exits;
+    for (int k = 0; k < static_cast<int>(g.branches.size()); ++k) {
+      const Branch& b = g.branches[k];
+      if (!b.alive || k == skip) continue;
+      for (int s = 0; s < 2; ++s)
+        if (g.nodes[b.node[s]].kind == Node::Kind::junction &&
+            std::find(roots.begin(), roots.end(), uf.find(b.node[s])) != roots.end())
+          exits.push_back({k, s});
+    }
+    return exits;
+  };
   // Exits per crossing, with small cycles folded in.
   auto degree_of = [&](std::vector<int>& degree) {
     degree.assign(n_nodes, 0);
@@ -204,10 +207,12 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
         continue;
       }
       const int r0 = uf.find(b.node[0]), r1 = uf.find(b.node[1]);
-      if (r0 == r1 && b.length <= 4 * merge_length &&
-          !small_self_loop(g, uf, index_of(b), small_loop_radii)) {
-        make_inner(b);
-        continue;
+      if (r0 == r1 && b.length <= 4 * merge_length) {
+        const int i = static_cast<int>(&b - g.branches.data());
+        if (!(small_loop_radii > 0 && small_self_loop(g, b, exits_of({r0}, i), small_loop_radii))) {
+          make_inner(b);
+          continue;
+        }
       }
       ++degree[r0];
       ++degree[r1];
@@ -230,19 +235,6 @@ std::vector<CrossingRegion> group_junctions(SkeletonGraph& g, double merge_lengt
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return g.branches[a].length < g.branches[b].length; });
   if (pairing_cost) {
-    // The exits of the crossings `roots` as they stand, less branch `skip`.
-    const auto exits_of = [&](std::initializer_list<int> roots, int skip) {
-      std::vector<BranchEnd> exits;
-      for (int k = 0; k < static_cast<int>(g.branches.size()); ++k) {
-        const Branch& b = g.branches[k];
-        if (!b.alive || k == skip) continue;
-        for (int s = 0; s < 2; ++s)
-          if (g.nodes[b.node[s]].kind == Node::Kind::junction &&
-              std::find(roots.begin(), roots.end(), uf.find(b.node[s])) != roots.end())
-            exits.push_back({k, s});
-      }
-      return exits;
-    };
     const auto cost_of = [&](const std::vector<BranchEnd>& exits) {
       return exits.size() <= static_cast<size_t>(kMaxExactExits) ? pairing_cost(exits) : kUnknownCost;
     };
