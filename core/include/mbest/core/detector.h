@@ -53,8 +53,9 @@ struct Detection {
   double total_ms() const;
 };
 
-// Every length is in units of r, the widest DLO's radius, measured on the mask: the
-// detector has no hyperparameter in pixels. JSON field names are the member names.
+// Every length is in units of r, the widest DLO's radius, measured on the mask (but
+// small_loop_radii, in a loop's own radius): the detector has no hyperparameter in pixels.
+// JSON field names are the member names.
 struct DetectorConfig {
   double min_dlo_length_radii = 3.0;  // shorter traversals are mask noise, not DLOs
   double cut_radii = 1.0;    // skeleton next to a crossing replaced by the path through it
