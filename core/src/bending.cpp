@@ -354,9 +354,13 @@ void add_loop_closing_costs(std::vector<std::vector<double>>& costs,
     for (size_t b = a + 1; b < n; ++b) {
       if (exits[a].branch != exits[b].branch) continue;
       bool ring = tangents[a].has_colour;
-      for (size_t c = 0; c < n && ring; ++c)
+      for (size_t c = 0; c < n && ring; ++c) {
+        const bool same_width =
+            std::abs(tangents[a].radius - tangents[c].radius) <= kSameWidth * tangents[c].radius;
+        const double tolerance = (same_width ? kSameWidthColourTolerance : 1.0) * kColourTolerance;
         ring = exits[c].branch == exits[a].branch || !tangents[c].has_colour ||
-               colour_distance(tangents[a].colour, tangents[c].colour) > kColourTolerance;
+               colour_distance(tangents[a].colour, tangents[c].colour) > tolerance;
+      }
       if (ring) continue;
       costs[a][b] += weight;
       costs[b][a] += weight;
