@@ -1,12 +1,16 @@
 // Scenes of the generated data sets where the detector once went wrong, regenerated in
 // memory from their preset, seed and index: plain tests of what a user sees there (the
 // property suites' shrunk cases live in fixtures/regressions/ instead).
+#include <algorithm>
+#include <limits>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "mbest/core/detector.h"
 #include "mbest/synth/config.h"
 #include "mbest/synth/dataset.h"
+#include "mbest/validate/centerline_error.h"
 #include "mbest/validate/dice.h"
 
 namespace mbest {
@@ -92,20 +96,21 @@ TEST(SuiteScenes, ATightLoopCrossesItsRod) {
 }
 
 // How far the detected centerlines leave the ground truth's near `at`: the largest distance
-// from a true centerline point within `reach` px of `at` to the nearest detected one.
+// from a true centerline point within `reach` px of `at` to the nearest detected centerline
+// (validate's centerline error, over every DLO).
 double farthest_truth_near(const synth::GeneratedScene& s, const Detection& d, cv::Point2f at,
                            double reach) {
-  double worst = 0;
+  std::vector<cv::Point2d> near;
   for (const auto& rod : s.annotation.rods)
-    for (const cv::Point2d& p : rod.centerline) {
-      if (cv::norm(cv::Point2f(p) - at) > reach) continue;
-      double nearest = 1e9;
-      for (const Dlo& dlo : d.dlos)
-        for (const cv::Point& q : dlo.centerline)
-          nearest = std::min(nearest, cv::norm(cv::Point2d(q) - p));
-      worst = std::max(worst, nearest);
-    }
-  return worst;
+    for (const cv::Point2d& p : rod.centerline)
+      if (cv::norm(cv::Point2f(p) - at) <= reach) near.push_back(p);
+  std::vector<double> nearest(near.size(), std::numeric_limits<double>::infinity());
+  for (const Dlo& dlo : d.dlos) {
+    validate::Polyline line{{dlo.centerline.begin(), dlo.centerline.end()}, dlo.closed};
+    const std::vector<double> to_dlo = validate::distances_to_polyline(near, line);
+    for (size_t k = 0; k < near.size(); ++k) nearest[k] = std::min(nearest[k], to_dlo[k]);
+  }
+  return nearest.empty() ? 0 : *std::max_element(nearest.begin(), nearest.end());
 }
 
 // `accuracy-suite.sh`'s seed set 7000, `cables` scene 000191 (seed 7004): a thin cable
