@@ -304,6 +304,50 @@ TEST(Detector, RodEndingAcrossAnotherIsListedAsACrossing) {
   }
 }
 
+// One 13 px rod along y = 160 that turns back over itself (an arc up and round) and ends
+// with its tip coming down onto its own strand at `angle_deg`, the tip of its centerline
+// `past` px beyond the strand's axis (negative: short of it, a T).
+cv::Mat hook_onto_itself(double angle_deg, double past) {
+  std::vector<cv::Point> rod{{20, 160}, {300, 160}};
+  const std::vector<cv::Point> round = test::arc({300, 100}, 60, M_PI / 2, -M_PI, 120);
+  rod.insert(rod.end(), round.begin(), round.end());
+  const double a = angle_deg * M_PI / 180;
+  const cv::Point2d down(-std::cos(a), std::sin(a)), from(240, 100);
+  rod.push_back(cv::Point(from + down * ((60 + past) / std::sin(a))));
+  cv::Mat mask = cv::Mat::zeros(240, 420, CV_8UC1);
+  test::draw_rod(mask, rod, 13);
+  return mask;
+}
+
+// A rod's tip poking through its own strand is a self-crossing in the truth (a loop closing
+// at its end); a tip ending against its own strand (a T) is not. One label covers both
+// strands there, so the detector tells them by how far the label runs past the strand.
+TEST(Detector, RodEndingAcrossItselfIsListedAsASelfCrossing) {
+  for (double angle : {60.0, 90.0}) {
+    for (double past : {-5.0, 0.0, 7.0}) {
+      const std::string scene = std::to_string(static_cast<int>(angle)) + " degrees, tip " +
+                                std::to_string(static_cast<int>(past)) + " px past the axis";
+      const cv::Mat mask = hook_onto_itself(angle, past);
+      auto r = detect(mask);
+      ASSERT_TRUE(r.ok());
+      const Detection& d = r.value();
+      ASSERT_EQ(d.dlos.size(), 1u) << scene;
+      EXPECT_FALSE(d.dlos[0].closed) << scene;
+      if (past <= 0) {
+        EXPECT_TRUE(d.crossings.empty()) << scene;
+        continue;
+      }
+      ASSERT_EQ(d.crossings.size(), 1u) << scene;
+      const Crossing& c = d.crossings[0];
+      EXPECT_EQ(c.dlos, (std::vector<int>{0, 0})) << scene;
+      const cv::Point2f expected(240 - 60 / std::tan(angle * M_PI / 180), 160);
+      EXPECT_LT(cv::norm(c.location - expected), 4.0) << scene;
+      EXPECT_NEAR(c.angle_deg, angle, 6.0) << scene;
+      expect_labels_cover_mask(d, mask);
+    }
+  }
+}
+
 // Three rods of three colours crossing pairwise within a few radii of one point: the
 // skeleton may split that cluster into regions that cannot be paired right one by one.
 TEST(Detector, ThreeColouredRodsCrossingNearOnePoint) {
