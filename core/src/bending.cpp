@@ -609,41 +609,65 @@ bool on_arc(float from, float to, float x) {
   return std::fmod(x - from + 2 * turn, turn) < std::fmod(to - from + 2 * turn, turn);
 }
 
-// The least-cost pairing of a region whose four exits are a loop's two ends and two exits of
-// other branches, about as wide as the loop, may join them without crossing (an omega: the
-// rod runs into the loop and out of it on the same side, the loop touching its neck). A rod
-// that makes a loop crosses itself there, and on a tight loop the exits' fitted tangents
+// Do the segments ab and cd cross (each one's ends on the two sides of the other's line)?
+bool segments_cross(cv::Point2f a, cv::Point2f b, cv::Point2f c, cv::Point2f d) {
+  const auto side = [](cv::Point2f p, cv::Point2f q, cv::Point2f x) { return (q - p).cross(x - p); };
+  return side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0;
+}
+
+// The least-cost pairing of a region holding a loop's two ends may join them to their two
+// partners (exits of other branches, about as wide as the loop) without crossing (an omega:
+// the rod runs into the loop and out of it on the same side, the loop touching its neck). A
+// rod that makes a loop crosses itself there, and on a tight loop the exits' fitted tangents
 // bend with the loop, so the two pairings cost about the same. The crossing one (the pairs'
 // exits interleaved round the region's centre) is taken when it costs at most `margin` more.
+// Where other strands cross there too (more than four exits: a loop closing on another rod),
+// only if the four exits are alike in colour and no other exit is of their colour: a second
+// strand of the rod's colour there may be the rod itself (it passes through its loop) or a
+// like rod, whose pairing the swap would not weigh.
 void prefer_loop_crossing(const CrossingRegion& region, const std::vector<BranchTangent>& t,
                           const PairWeights& weights, double margin, std::vector<std::pair<int, int>>& pairing) {
-  if (region.exits.size() != 4 || pairing.size() != 2 || margin <= 0) return;
+  const int n = static_cast<int>(region.exits.size());
+  if (n < 4 || margin <= 0) return;
   int la = -1, lb = -1;
-  for (int a = 0; a < 4; ++a)
-    for (int b = a + 1; b < 4; ++b)
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
       if (region.exits[a].branch == region.exits[b].branch) la = a, lb = b;
   if (la < 0) return;
-  int oa = -1, ob = -1;
-  for (int k = 0; k < 4; ++k)
-    if (k != la && k != lb) (oa < 0 ? oa : ob) = k;
-  if (region.exits[oa].branch == region.exits[ob].branch) return;
-  const float loop_radius = 0.5f * (t[la].radius + t[lb].radius);
-  for (int k : {oa, ob})
-    if (t[k].radius > 1.5f * loop_radius || 1.5f * t[k].radius < loop_radius) return;
-  int pa = -1;  // la's partner
-  for (const auto& [i, j] : pairing)
+  int pa = -1, pb = -1;  // la's partner, lb's
+  for (const auto& [i, j] : pairing) {
     if (i == la || j == la) pa = i == la ? j : i;
-  if (pa != oa && pa != ob) return;  // the loop closed on itself: a ring, not this case
-  const int pb = pa == oa ? ob : oa;
-  float angle[4];
-  for (int k = 0; k < 4; ++k) {
+    if (i == lb || j == lb) pb = i == lb ? j : i;
+  }
+  if (pa < 0 || pb < 0 || pa == lb) return;  // pa == lb: the loop closed on itself, a ring
+  if (region.exits[pa].branch == region.exits[pb].branch) return;
+  const float loop_radius = 0.5f * (t[la].radius + t[lb].radius);
+  for (int k : {pa, pb})
+    if (t[k].radius > 1.5f * loop_radius || 1.5f * t[k].radius < loop_radius) return;
+  std::vector<float> angle(n);
+  for (int k = 0; k < n; ++k) {
     const cv::Point2f d = t[k].point - region.centre;
     angle[k] = std::atan2(d.y, d.x);
   }
   if (on_arc(angle[la], angle[pa], angle[lb]) != on_arc(angle[la], angle[pa], angle[pb])) return;  // crosses
   const double now = pair_cost(t[la], t[pa], weights) + pair_cost(t[lb], t[pb], weights);
   const double crossing = pair_cost(t[la], t[pb], weights) + pair_cost(t[lb], t[pa], weights);
-  if (crossing <= now + margin) pairing = {{la, pb}, {lb, pa}};
+  if (crossing > now + margin) return;
+  if (n > 4) {
+    // A long region's exits round its centre need not say which pairs cross: the chords do.
+    if (segments_cross(t[la].point, t[pa].point, t[lb].point, t[pb].point) ||
+        !segments_cross(t[la].point, t[pb].point, t[lb].point, t[pa].point))
+      return;
+    if (colour_penalty(t[la], t[pb]) > 0 || colour_penalty(t[lb], t[pa]) > 0) return;
+    for (int k = 0; k < n; ++k)
+      if (k != la && k != lb && k != pa && k != pb &&
+          (colour_penalty(t[la], t[k]) == 0 || colour_penalty(t[lb], t[k]) == 0))
+        return;
+  }
+  for (auto& [i, j] : pairing) {
+    if (i == la || j == la) i = la, j = pb;
+    else if (i == lb || j == lb) i = lb, j = pa;
+  }
 }
 
 }  // namespace

@@ -284,11 +284,12 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // across a cluster share one chord, so their Hermite energies add up alike for any
 // pairing; the skeleton inside shows how each strand runs. min_exits 0: never.
 //
-// A region whose four exits are a loop's two ends and two exits of other branches within
-// 1.5 times the loop's width, paired without crossing (the rod running into the loop and out
-// of it on one side, an omega), is paired crossing instead when that costs at most
-// `loop_cross_margin` more: a rod that makes a loop crosses itself, and the tangents of a
-// tight loop's ends bend with it. 0: never.
+// A loop's two ends paired with two exits of other branches within 1.5 times the loop's
+// width without crossing (the rod running into the loop and out of it on one side, an
+// omega) are paired crossing instead when that costs at most `loop_cross_margin` more: a rod
+// that makes a loop crosses itself, and the tangents of a tight loop's ends bend with it.
+// In a region with further exits (the loop closing on another rod) only when the four are
+// alike in colour and no other exit there is of their colour. 0: never.
 struct RouteCosts {
   int min_exits = 0;
   double weight = 1;
