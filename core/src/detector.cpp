@@ -222,7 +222,9 @@ constexpr float kMinStub = 2.0f;
 // (px). Over the nine seed sets' 6000 outside `stress` scenes and 3000 `stress` ones, the
 // tips measured past it by more than 1 px were 18 true self-crossings and 4 not (all in
 // `stress`, tips of merged rods); T's touching their own rod measured -0.7 to +0.4 px, and
-// true crossings from +0.1 px. At 2 px, 4 of the 18 were lost.
+// true crossings from +0.1 px. At 2 px, 4 of the 18 were lost. The measure moves by about a
+// pixel with the image's orientation (a tip at its strand's axis: 0.39 px, and 1.38 px
+// flipped), so a tip near the margin may be listed in one orientation only.
 constexpr float kSelfTipMargin = 1.0f;
 
 // Adds to det.crossings each crossing of an open DLO's end with a strand through the region
@@ -295,8 +297,9 @@ std::vector<EndCrossing> crossings_at_ends(Detection& det, const SkeletonGraph& 
         }
         // The DLO's tip on its own strand (a loop closing at its end): one label, so the run
         // holds the strand's pixels too, reaching its far side (own_radius / sin of the
-        // angle along `ahead`). Past it by kSelfTipMargin (or out of the image), the tip pokes
-        // through: its centerline ends past the strand's.
+        // angle along `ahead`). Past it by kSelfTipMargin, the tip pokes through: its
+        // centerline ends past the strand's. (A tip that leaves the image before that is not
+        // listed: where the strand runs along the border its far side is not seen.)
         const bool self = tr.passage_dlo[p] == d;
         const float sine = std::abs(ahead.x * across.y - ahead.y * across.x);
         const float needed = self ? own_radius / std::max(sine, 0.25f) + kSelfTipMargin : own_radius;
