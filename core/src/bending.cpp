@@ -644,12 +644,11 @@ void prefer_loop_crossing(const CrossingRegion& region, const std::vector<Branch
   const float loop_radius = 0.5f * (t[la].radius + t[lb].radius);
   for (int k : {pa, pb})
     if (t[k].radius > 1.5f * loop_radius || 1.5f * t[k].radius < loop_radius) return;
-  std::vector<float> angle(n);
-  for (int k = 0; k < n; ++k) {
+  const auto angle = [&](int k) {
     const cv::Point2f d = t[k].point - region.centre;
-    angle[k] = std::atan2(d.y, d.x);
-  }
-  if (on_arc(angle[la], angle[pa], angle[lb]) != on_arc(angle[la], angle[pa], angle[pb])) return;  // crosses
+    return std::atan2(d.y, d.x);
+  };
+  if (on_arc(angle(la), angle(pa), angle(lb)) != on_arc(angle(la), angle(pa), angle(pb))) return;  // crosses
   const double now = pair_cost(t[la], t[pa], weights) + pair_cost(t[lb], t[pb], weights);
   const double crossing = pair_cost(t[la], t[pb], weights) + pair_cost(t[lb], t[pa], weights);
   if (crossing > now + margin) return;

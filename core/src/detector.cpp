@@ -301,7 +301,7 @@ std::vector<EndCrossing> crossings_at_ends(Detection& det, const SkeletonGraph& 
         // centerline ends past the strand's. (A tip that leaves the image before that is not
         // listed: where the strand runs along the border its far side is not seen.)
         const bool self = tr.passage_dlo[p] == d;
-        const float sine = std::abs(ahead.x * across.y - ahead.y * across.x);
+        const float sine = std::abs(ahead.cross(across));
         const float needed = self ? own_radius / std::max(sine, 0.25f) + kSelfTipMargin : own_radius;
         if (reached <= needed) continue;
         Crossing c;
