@@ -97,6 +97,33 @@ TEST(CrossingResolution, PerfectPredictionIsPairedAndOrdered) {
   }
 }
 
+TEST(CrossingResolution, NeighboursAreTheOtherCrossingsWithinFourWidths) {
+  // Rods 8 px wide, so within 32 px. Crossing 0 at (100, 60); the annotation also lists
+  // crossings 20, 31 and 34 px from it (the last 14 px from the first).
+  TwoRods s(90);
+  for (const cv::Point2d p : {cv::Point2d(120, 60), cv::Point2d(100, 91), cv::Point2d(134, 60)}) {
+    CrossingAnnotation x = s.scene.crossings[0];
+    x.location = p;
+    s.scene.crossings.push_back(x);
+  }
+  Result<DiceScore> d = matched_dice(s.gt, s.gt);
+  ASSERT_TRUE(d.ok());
+  std::vector<CrossingResolution> r = crossing_resolution(s.scene, s.gt, s.gt, d.value());
+  ASSERT_EQ(r.size(), 4u);
+  EXPECT_EQ(r[0].neighbours, 2);  // 20 and 31 px; 34 px is out
+  EXPECT_EQ(r[1].neighbours, 2);  // 20 and 14 px; (100, 91) is 37 px off
+  EXPECT_EQ(r[2].neighbours, 1);  // 31 px; the others are 37 and 46 px off
+  EXPECT_EQ(r[3].neighbours, 1);  // 14 px; (100, 60) is 34 px off
+  // The radius is an option: at 5 widths (40 px) crossing 0 has all three.
+  CrossingOptions wider;
+  wider.crowding_radius_widths = 5;
+  r = crossing_resolution(s.scene, s.gt, s.gt, d.value(), wider);
+  EXPECT_EQ(r[0].neighbours, 3);
+  // A lone crossing has none.
+  const TwoRods lone(90);
+  EXPECT_EQ(lone.resolve(lone.gt.clone()).neighbours, 0);
+}
+
 TEST(CrossingResolution, WrongRodOnTopIsPairedButNotOrdered) {
   const TwoRods s(60);
   cv::Mat pred = cv::Mat::zeros(s.gt.size(), CV_16UC1);

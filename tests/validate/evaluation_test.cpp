@@ -440,6 +440,40 @@ TEST(Evaluation, KeepsThePredictionsOfTheFirstFailedCrossings) {
   }
 }
 
+TEST(Summary, PairingIsBinnedByCrowdingUnderAndFromTwentyDegrees) {
+  const auto crowded = [](double angle, bool assessed, bool correct, int neighbours) {
+    CrossingResolution c = scored_crossing(1, 2, angle, assessed, correct);
+    c.neighbours = neighbours;
+    return c;
+  };
+  const Evaluation e = one_scored_image({{1, 0.99}, {2, 0.99}},
+                                        {crowded(30, true, true, 0),
+                                         crowded(20, true, false, 0),     // 20 counts as from 20
+                                         crowded(15, true, true, 1),
+                                         crowded(60, true, false, 3),     // bin 2-3
+                                         crowded(60, true, true, 9),      // bin 4+
+                                         crowded(5, false, false, 9)});   // not assessed
+  const Summary s = summarise(e);
+  for (const TierSummary* t : {&s.tiers[0], &s.all}) {
+    const std::vector<RateBin>& under = t->pairing_by_crowding_under_20;
+    const std::vector<RateBin>& from = t->pairing_by_crowding_from_20;
+    ASSERT_EQ(under.size(), 4u);
+    ASSERT_EQ(from.size(), 4u);
+    EXPECT_EQ(from[0].assessed, 2);
+    EXPECT_EQ(from[0].correct, 1);
+    EXPECT_EQ(under[0].assessed, 0);
+    EXPECT_EQ(under[1].assessed, 1);
+    EXPECT_EQ(under[1].correct, 1);
+    EXPECT_EQ(from[2].assessed, 1);
+    EXPECT_EQ(from[2].correct, 0);
+    EXPECT_EQ(from[3].assessed, 1);
+    EXPECT_EQ(under[3].assessed, 0);
+  }
+  EXPECT_EQ(bin_index(crowding_bins(), 0), 0);
+  EXPECT_EQ(bin_index(crowding_bins(), 3), 2);
+  EXPECT_EQ(bin_index(crowding_bins(), 4), 3);
+}
+
 TEST(Summary, BinsAreHalfOpenAndTheLastHoldsItsTop) {
   EXPECT_EQ(bin_index(angle_bins(), 0), 0);
   EXPECT_EQ(bin_index(angle_bins(), 9.99), 0);

@@ -201,6 +201,29 @@ TEST(Report, PairingFailuresAreCountedByCauseAndMarkedOnEachCrossing) {
   EXPECT_NE(report_html(e, s, {}).find("<h3>Pairing failures by cause"), std::string::npos);
 }
 
+TEST(Report, PairingByCrowdingListsOnlyBinsWithCrossings) {
+  CrossingResolution lone = scored_crossing(1, 2, 30, true, true);
+  CrossingResolution crowded = scored_crossing(1, 3, 12, true, false);
+  crowded.neighbours = 5;
+  const Evaluation e = one_scored_image({{1, 0.99}, {2, 0.98}, {3, 0.99}}, {lone, crowded});
+  const Summary s = summarise(e);
+  const std::string md = report_markdown(e, s, {});
+  const size_t at = md.find("## Pairing % by crowding, per tier");
+  ASSERT_NE(at, std::string::npos) << md;
+  const std::string table = md.substr(at, md.find("\n## ", at + 1) - at);
+  EXPECT_NE(table.find("| s3 | 0 | - | 100.00 (1) |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| s3 | 4+ | 0.00 (1) | - |"), std::string::npos) << table;
+  EXPECT_EQ(table.find("| s3 | 1 |"), std::string::npos) << table;  // empty bins left out
+  EXPECT_EQ(table.find("| s3 | 2-3 |"), std::string::npos) << table;
+  const nlohmann::json j = nlohmann::json::parse(report_json(e, s, {}));
+  const nlohmann::json& c = j["tiers"][0]["crossings"]["pairing_by_crowding"];
+  EXPECT_EQ(c["from_20_deg"][0]["correct"], 1);
+  EXPECT_EQ(c["under_20_deg"][3]["assessed"], 1);
+  EXPECT_EQ(j["images"][0]["crossings"][1]["neighbours"], 5);
+  EXPECT_NE(report_html(e, s, {}).find("<h3>Pairing % by crowding, per tier</h3>"),
+            std::string::npos);
+}
+
 TEST(Report, FailedCrossingsAreListedAndShownCloseUp) {
   const fs::path root = fresh_dir();
   for (int i = 0; i < 3; ++i) {

@@ -227,6 +227,15 @@ std::vector<CrossingResolution> crossing_resolution(const synth::SceneAnnotation
     }
     out.push_back(r);
   }
+  for (CrossingResolution& r : out) {
+    if (r.width_px <= 0) continue;  // a crossing naming a missing rod: no width to measure by
+    const double radius = options.crowding_radius_widths * r.width_px;
+    for (const synth::CrossingAnnotation& c : scene.crossings) {
+      const cv::Point2d d = c.location - r.location;
+      if (d.dot(d) < radius * radius) ++r.neighbours;
+    }
+    --r.neighbours;  // itself
+  }
   return out;
 }
 

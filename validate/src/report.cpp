@@ -111,11 +111,10 @@ Row tier_angle_header() {
   for (const Bin& b : angle_bins()) h.push_back(b.label);
   return h;
 }
+std::string rate_cell(const RateBin& b);
 Row tier_angle_row(const TierSummary& t) {
   Row r{t.tier};
-  for (const RateBin& b : t.pairing_by_angle)
-    r.push_back(b.assessed ? rate(b.correct, b.assessed) + " (" + std::to_string(b.assessed) + ")"
-                           : "-");
+  for (const RateBin& b : t.pairing_by_angle) r.push_back(rate_cell(b));
   return r;
 }
 // Pairing failures per tier and angle bin by cause: "local + split/merged" cells, "-" where
@@ -138,6 +137,26 @@ Row tier_failure_row(const TierSummary& t) {
   }
   r.push_back(failure_cell(local, split));
   return r;
+}
+// Pairing by crowding: one row per tier and crowding bin with crossings assessed, then the
+// same for all tiers when there are several.
+Row crowding_header() { return {"tier", "crowding", "under 20 degrees", "20 degrees and over"}; }
+std::string rate_cell(const RateBin& b) {
+  return b.assessed ? rate(b.correct, b.assessed) + " (" + std::to_string(b.assessed) + ")" : "-";
+}
+std::vector<Row> crowding_rows(const Summary& s) {
+  std::vector<const TierSummary*> tiers;
+  for (const TierSummary& t : s.tiers) tiers.push_back(&t);
+  if (s.tiers.size() > 1) tiers.push_back(&s.all);
+  std::vector<Row> rows;
+  for (const TierSummary* t : tiers)
+    for (size_t i = 0; i < crowding_bins().size(); ++i) {
+      const RateBin& under = t->pairing_by_crowding_under_20[i];
+      const RateBin& from = t->pairing_by_crowding_from_20[i];
+      if (under.assessed + from.assessed > 0)
+        rows.push_back({t->tier, crowding_bins()[i].label, rate_cell(under), rate_cell(from)});
+    }
+  return rows;
 }
 Row bin_header(const std::string& figure) {
   return {figure, "pairing %", "(assessed)", "order %", "(assessed)"};
@@ -246,6 +265,12 @@ constexpr char kFailureNote[] =
     "failures where a rod of the crossing is split, merged or missed (matched DICE < 0.95), a "
     "figure beyond ../shared/docs/metrics.md.";
 
+// Under the heading of the crowding table.
+constexpr char kCrowdingNote[] =
+    "Crowding: how many other ground-truth crossings lie within 4 widths (of the wider rod) of "
+    "the crossing, a figure beyond ../shared/docs/metrics.md. Each cell: pairing % (crossings "
+    "assessed); crossings under 20 degrees and at 20 or more apart, the accuracy goal's ranges.";
+
 // Under the heading of the detected-crossings table.
 constexpr char kCrossingListNote[] =
     "The detector's own crossing list matched to the ground truth's crossings, a figure beyond "
@@ -270,6 +295,9 @@ std::string definitions(const Evaluation& e) {
            "radians), a crossing takes the larger of its rods'; bins of half turns: 0-3.14, "
            "3.14-6.28, 6.28-9.42, 9.42-12.57, 12.57+. Angle bins 0-10, 10-20, 20-45, 45-90 "
            "degrees. "
+           "Crowding, a figure beyond ../shared/docs/metrics.md: the number of other "
+           "ground-truth crossings within 4 widths of the wider rod of a crossing; bins 0, 1, "
+           "2-3, 4+. "
            "Pairing failures by cause, a figure beyond ../shared/docs/metrics.md: local when "
            "both rods of the crossing (its one rod for a self-crossing) have a matched DICE of "
            "at least 0.95, so the strands switch near the crossing only; otherwise a rod is "
@@ -332,7 +360,10 @@ json tier_json(const TierSummary& t) {
                            {"order_assessed", t.order_assessed},
                            {"order_correct", t.order_correct},
                            {"pairing_by_angle", rate_bins_json(t.pairing_by_angle)},
-                           {"pairing_failures_by_angle", failure_bins_json(t.pairing_failures_by_angle)}}}};
+                           {"pairing_failures_by_angle", failure_bins_json(t.pairing_failures_by_angle)},
+                           {"pairing_by_crowding",
+                            {{"under_20_deg", rate_bins_json(t.pairing_by_crowding_under_20)},
+                             {"from_20_deg", rate_bins_json(t.pairing_by_crowding_from_20)}}}}}};
   if (t.has_centerlines)
     j["centerline_px"] = {
         {"pred_to_gt", {{"mean", t.pred_to_gt.mean}, {"p95", t.pred_to_gt.p95}, {"points", t.pred_to_gt.count}}},
@@ -407,6 +438,7 @@ json image_json(const ImageResult& r) {
     for (const CrossingResolution& c : r.crossings)
       crossings.push_back({{"index", c.index}, {"rods", {c.rod_a, c.rod_b}}, {"top", c.top},
                            {"angle_deg", c.angle_deg}, {"complexity", c.complexity},
+                           {"neighbours", c.neighbours},
                            {"location", {c.location.x, c.location.y}},
                            {"labels", {{"a_before", c.a_before}, {"a_after", c.a_after},
                                        {"b_before", c.b_before}, {"b_after", c.b_after},
@@ -660,6 +692,9 @@ std::string report_markdown(const Evaluation& e, const Summary& s, const ReportI
         << "\n## Pairing failures by cause, per tier and angle (degrees)\n\n"
         << kFailureNote << "\n\n"
         << markdown_table(tier_failure_header(), tier_rows(s, tier_failure_row))
+        << "\n## Pairing % by crowding, per tier\n\n"
+        << kCrowdingNote << "\n\n"
+        << markdown_table(crowding_header(), crowding_rows(s))
         << "\n## Crossings by curvature complexity (total_turning_rad)\n\n"
         << markdown_table(bin_header("complexity"),
                           bin_rows(s.pairing_by_complexity, s.order_by_complexity))
@@ -739,7 +774,13 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
         << chart_img(bar_chart_png("Matched DICE of each rod by curvature complexity",
                                    "total absolute turning of the rod (radians)",
                                    labels_of(s.rod_dice_by_complexity),
-                                   {mean_series("rod DICE", s.rod_dice_by_complexity)}));
+                                   {mean_series("rod DICE", s.rod_dice_by_complexity)}))
+        << chart_img(bar_chart_png("Crossings paired right by crowding",
+                                   "other crossings within 4 widths",
+                                   labels_of(s.all.pairing_by_crowding_under_20),
+                                   {rate_series("under 20 degrees", s.all.pairing_by_crowding_under_20),
+                                    rate_series("20 degrees and over",
+                                                s.all.pairing_by_crowding_from_20)}));
   }
   out << "</div>\n";
   if (synthetic(e)) {
@@ -750,6 +791,9 @@ std::string report_html(const Evaluation& e, const Summary& s, const ReportInfo&
         << "<h3>Pairing failures by cause, per tier and angle (degrees)</h3>\n<p>"
         << html_escape(kFailureNote) << "</p>\n"
         << html_table(tier_failure_header(), tier_rows(s, tier_failure_row))
+        << "<h3>Pairing % by crowding, per tier</h3>\n<p>" << html_escape(kCrowdingNote)
+        << "</p>\n"
+        << html_table(crowding_header(), crowding_rows(s))
         << "<h3>Crossings by curvature complexity</h3>\n"
         << html_table(bin_header("total_turning_rad"),
                       bin_rows(s.pairing_by_complexity, s.order_by_complexity));

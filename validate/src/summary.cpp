@@ -32,6 +32,7 @@ TierSummary summarise_images(const std::string& tier, const std::vector<const Im
   t.tier = tier;
   t.pairing_by_angle = rate_bins(angle_bins());
   for (const Bin& b : angle_bins()) t.pairing_failures_by_angle.push_back(FailureBin{b});
+  t.pairing_by_crowding_under_20 = t.pairing_by_crowding_from_20 = rate_bins(crowding_bins());
   t.images = static_cast<int>(images.size());
   std::vector<double> strict, lenient, detect_ms, p2g, g2p, angle_errors;
   for (const ImageResult* r : images) {
@@ -46,7 +47,11 @@ TierSummary summarise_images(const std::string& tier, const std::vector<const Im
       t.pairing_assessed += c.pairing_assessed;
       t.pairing_correct += c.pairing_assessed && c.pairing_correct;
       const int angle = bin_index(angle_bins(), c.angle_deg);
-      if (c.pairing_assessed) add(&t.pairing_by_angle, angle, c.pairing_correct);
+      if (c.pairing_assessed) {
+        add(&t.pairing_by_angle, angle, c.pairing_correct);
+        add(c.angle_deg < 20 ? &t.pairing_by_crowding_under_20 : &t.pairing_by_crowding_from_20,
+            bin_index(crowding_bins(), c.neighbours), c.pairing_correct);
+      }
       const PairingFailure failure = pairing_failure(*r, c);
       if (failure != PairingFailure::kNone && angle >= 0) {
         FailureBin& f = t.pairing_failures_by_angle[angle];
@@ -134,6 +139,14 @@ const std::vector<Bin>& complexity_bins() {
                                         {"6.28-9.42", 2 * kPi, 3 * kPi},
                                         {"9.42-12.57", 3 * kPi, 4 * kPi},
                                         {"12.57+", 4 * kPi, std::numeric_limits<double>::infinity()}};
+  return bins;
+}
+
+const std::vector<Bin>& crowding_bins() {
+  static const std::vector<Bin> bins = {{"0", 0, 1},
+                                        {"1", 1, 2},
+                                        {"2-3", 2, 4},
+                                        {"4+", 4, std::numeric_limits<double>::infinity()}};
   return bins;
 }
 

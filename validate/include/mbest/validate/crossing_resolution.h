@@ -23,6 +23,12 @@ struct CrossingOptions {
   double max_walk_widths = 40;
   // Radius, in widths of the rod sampled, of the disc whose majority predicted label is read.
   double disc_radius_widths = 0.25;
+  // A crossing's neighbours are the other ground-truth crossings of the scene within this
+  // many widths (of its wider rod) of it: how crowded the place is (CrossingResolution::
+  // neighbours). Beyond metrics.md. Four widths is about where a detector's view of one
+  // crossing (the junction cluster, the strands' directions a width or two out) takes in
+  // the next.
+  double crowding_radius_widths = 4;
 };
 
 struct CrossingResolution {
@@ -32,6 +38,7 @@ struct CrossingResolution {
   cv::Point2d location;   // pixels, from the annotation
   double width_px = 0;    // the wider rod's width
   double complexity = 0;  // max total_turning_rad of the rods involved
+  int neighbours = 0;     // other crossings within crowding_radius_widths (CrossingOptions)
   // Majority predicted label on each strand just before / after the crossing (0 = background
   // or not sampled) and at the crossing itself.
   int a_before = 0, a_after = 0, b_before = 0, b_after = 0, at_crossing = 0;

@@ -21,6 +21,9 @@ const std::vector<Bin>& angle_bins();
 // binned by half turns: 0-π, π-2π, 2π-3π, 3π-4π, 4π and more (labels 0-3.14, ..., 12.57+).
 // A crossing's complexity is the larger of its two rods'.
 const std::vector<Bin>& complexity_bins();
+// How crowded a crossing's place is: its neighbours (crossing_resolution.h), other
+// crossings within a few widths: 0, 1, 2-3, 4 and more. Beyond metrics.md.
+const std::vector<Bin>& crowding_bins();
 // Index of the bin holding `value`, -1 when none does.
 int bin_index(const std::vector<Bin>& bins, double value);
 
@@ -71,6 +74,9 @@ struct TierSummary {
   int order_assessed = 0, order_correct = 0;
   std::vector<RateBin> pairing_by_angle;  // angle_bins(); the accuracy goal is per angle
   std::vector<FailureBin> pairing_failures_by_angle;  // angle_bins()
+  // Pairing by crowding_bins(), crossings under 20 degrees and at 20 or more apart (the
+  // accuracy goal's two ranges): whether failures come from lone crossings or from tangles.
+  std::vector<RateBin> pairing_by_crowding_under_20, pairing_by_crowding_from_20;
   bool has_centerlines = false;  // some image had predicted centerlines
   DistanceSummary pred_to_gt, gt_to_pred;  // pooled over every point of the tier
   CrossingListTotals crossing_list;
