@@ -11,6 +11,7 @@
 #include "mbest/synth/config.h"
 #include "mbest/synth/dataset.h"
 #include "mbest/validate/centerline_error.h"
+#include "mbest/validate/crossing_list.h"
 #include "mbest/validate/dice.h"
 
 namespace mbest {
@@ -108,6 +109,39 @@ TEST(SuiteScenes, ATightLoopCrossesItsRod) {
 // The swap is taken there too since the four exits share a colour no other exit has.
 TEST(SuiteScenes, ALoopClosingOnAnotherRodCrossesItself) {
   expect_loop_crossing_from_margin(scene("cables", 11004, 157), {618, 282});
+}
+
+// The detection's crossing list scored against the scene's crossings (validate's matching:
+// the right two DLOs, within two widths).
+validate::CrossingListScore listed_crossings(const synth::GeneratedScene& s, const Detection& d) {
+  const Result<validate::DiceScore> dice = validate::matched_dice(s.render.labels, d.labels);
+  EXPECT_TRUE(dice.ok());
+  if (!dice.ok()) return {};
+  std::vector<validate::DetectedCrossing> listed;
+  for (const Crossing& c : d.crossings)
+    listed.push_back({c.location, c.angle_deg, c.dlos[0] + 1, c.dlos[1] + 1});
+  return validate::match_crossing_list(s.annotation, dice.value(), listed);
+}
+
+// `accuracy-suite.sh`'s seed set 15000, `s2` scene 000117 (seed 15002): a teal tube loops
+// round a yellow one, which passes through the loop: the teal crosses itself at 65 degrees
+// at (387, 504) and the yellow three times within 70 px, all in one region of six exits.
+// Paired by the Hermite energies between its exits, the region listed one crossing; paired
+// along its inner branches too (DetectorConfig::route_min_exits from six exits), all four,
+// each between the right DLOs.
+TEST(SuiteScenes, ARodThroughALoopCrossesItThreeTimes) {
+  const synth::GeneratedScene s = scene("s2", 15002, 117);
+  ASSERT_EQ(s.annotation.rods.size(), 2u);
+  ASSERT_EQ(s.annotation.crossings.size(), 4u);
+  const Detection d = detected(s);
+  expect_each_rod_one_open_dlo(s, d);
+  const validate::CrossingListScore listed = listed_crossings(s, d);
+  EXPECT_EQ(listed.detected, 4);
+  EXPECT_EQ(listed.matches.size(), 4u);
+  DetectorConfig large_regions_only;
+  large_regions_only.route_min_exits = 10;
+  EXPECT_LT(listed_crossings(s, detected(s, large_regions_only)).matches.size(), 4u)
+      << "this scene no longer shows what the route adds in small regions";
 }
 
 // How far the detected centerlines leave the ground truth's near `at`: the largest distance
