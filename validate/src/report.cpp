@@ -111,7 +111,10 @@ Row tier_angle_header() {
   for (const Bin& b : angle_bins()) h.push_back(b.label);
   return h;
 }
-std::string rate_cell(const RateBin& b);
+// "rate (assessed)", or "-" where none was assessed.
+std::string rate_cell(const RateBin& b) {
+  return b.assessed ? rate(b.correct, b.assessed) + " (" + std::to_string(b.assessed) + ")" : "-";
+}
 Row tier_angle_row(const TierSummary& t) {
   Row r{t.tier};
   for (const RateBin& b : t.pairing_by_angle) r.push_back(rate_cell(b));
@@ -141,9 +144,6 @@ Row tier_failure_row(const TierSummary& t) {
 // Pairing by crowding: one row per tier and crowding bin with crossings assessed, then the
 // same for all tiers when there are several.
 Row crowding_header() { return {"tier", "crowding", "under 20 degrees", "20 degrees and over"}; }
-std::string rate_cell(const RateBin& b) {
-  return b.assessed ? rate(b.correct, b.assessed) + " (" + std::to_string(b.assessed) + ")" : "-";
-}
 std::vector<Row> crowding_rows(const Summary& s) {
   std::vector<const TierSummary*> tiers;
   for (const TierSummary& t : s.tiers) tiers.push_back(&t);
