@@ -600,6 +600,9 @@ std::vector<std::vector<double>> inner_route_bending(const SkeletonGraph& g, con
 // detector cannot read (a textured background segmented as foreground), where the search,
 // one per exit, only costs time.
 constexpr int kMaxRouteExits = 64;
+// Regions from this many exits are clusters of strands lying along each other, where the
+// route was first used (and tuned) also between a loop's two ends.
+constexpr size_t kClusterExits = 10;
 
 namespace {
 
@@ -702,7 +705,12 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
           cache.graph(), region, tangents, cache.setup().cut_length, cache.setup().fit_length);
       for (size_t a = 0; a < e.size(); ++a)
         for (size_t b = a + 1; b < e.size(); ++b) {
-          if (!std::isfinite(routed[a][b])) continue;
+          // A loop's two ends: the strand between them is the loop outside the region, so a
+          // route inside it says nothing of their pairing (closing the loop, which
+          // add_loop_closing_costs weighs). Kept in clusters, where it was tuned.
+          if (!std::isfinite(routed[a][b]) ||
+              (region.exits[a].branch == region.exits[b].branch && region.exits.size() < kClusterExits))
+            continue;
           const double bend =
               0.5 * (bending_energy(tangents[a], tangents[b]) + bending_energy(tangents[b], tangents[a]));
           const double saving = std::min(0.0, route.weight * routed[a][b] - bend);

@@ -227,6 +227,9 @@ struct DetectorConfig {
   // (the loops' regions have six); from 4 (every X) two `cables` crossings at 45-90
   // degrees broken; weights 0.25 (from 5) and 0.5 (from 6) made 28 and 18 scenes worse.
   // On 4000 scenes not used to choose it, one `cables` scene broken (three crossings).
+  // Below 10 exits the route is not used between a loop's two ends (bending.cpp,
+  // kClusterExits): it closed a cable's small loop into a ring (the demo's `cables` scene
+  // 5); `stress` failures then 1765 and 564.
   double route_min_exits = 6;
   double route_weight = 0.35;
 };
