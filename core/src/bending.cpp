@@ -685,6 +685,15 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
   const auto unlike = [&](const BranchTangent& a, const BranchTangent& b, double energy) {
     return colour_penalty(a, b) >= kColourPenaltyMax && pair_cost(a, b, shape) >= energy;
   };
+  // The crossing region each junction node is in, and the one an exit's strand reaches next.
+  const SkeletonGraph& graph = cache.graph();
+  std::vector<int> region_of_node(graph.nodes.size(), -1);
+  for (int r = 0; r < static_cast<int>(regions.size()); ++r)
+    for (int node : regions[r].nodes) region_of_node[node] = r;
+  const auto next_region = [&](const BranchEnd& e) {
+    const int node = graph.branches[e.branch].node[1 - e.side];
+    return node < 0 ? -1 : region_of_node[node];
+  };
   std::vector<Passage> passages;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r) {
     const CrossingRegion& region = regions[r];
@@ -705,14 +714,21 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
           cache.graph(), region, tangents, cache.setup().cut_length, cache.setup().fit_length);
       for (size_t a = 0; a < e.size(); ++a)
         for (size_t b = a + 1; b < e.size(); ++b) {
-          // A loop's two ends: the strand between them is the loop outside the region, so a
-          // route inside it says nothing of their pairing (closing the loop, which
-          // add_loop_closing_costs weighs). Kept in clusters, where it was tuned.
-          if (!std::isfinite(routed[a][b]) ||
-              (region.exits[a].branch == region.exits[b].branch && region.exits.size() < kClusterExits))
-            continue;
+          if (!std::isfinite(routed[a][b])) continue;
           const double bend =
               0.5 * (bending_energy(tangents[a], tangents[b]) + bending_energy(tangents[b], tangents[a]));
+          // A loop's two ends: the strand between them is the loop outside the region, so a
+          // route inside it says nothing of their pairing (closing the loop, which
+          // add_loop_closing_costs weighs). Kept in clusters, where it was tuned. Two exits
+          // whose strands both run into one other region may be a loop through it too (a
+          // rod crossing it there); the route then counts only where it bends less than the
+          // exits' own pairing, not for its weight's discount alone.
+          if (region.exits.size() < kClusterExits) {
+            if (region.exits[a].branch == region.exits[b].branch) continue;
+            const int next = next_region(region.exits[a]);
+            if (next >= 0 && next != r && next == next_region(region.exits[b]) && routed[a][b] >= bend)
+              continue;
+          }
           const double saving = std::min(0.0, route.weight * routed[a][b] - bend);
           e[a][b] += saving;
           e[b][a] += saving;

@@ -282,7 +282,10 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // lesser of its bending energy and `route.weight` times the bending of the strand's
 // cheapest route between them through the inner branches (inner_route_bending). All pairs
 // across a cluster share one chord, so their Hermite energies add up alike for any
-// pairing; the skeleton inside shows how each strand runs. min_exits 0: never.
+// pairing; the skeleton inside shows how each strand runs. Below 10 exits the route is not
+// used between a loop's two ends (one branch leaving and re-entering the region), nor,
+// where it bends more than their own pairing, between two exits whose strands both run
+// into one other region (a loop through a second crossing). min_exits 0: never.
 //
 // A loop's two ends paired with two exits of other branches within 1.5 times the loop's
 // width without crossing (the rod running into the loop and out of it on one side, an
