@@ -685,11 +685,9 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
   const auto unlike = [&](const BranchTangent& a, const BranchTangent& b, double energy) {
     return colour_penalty(a, b) >= kColourPenaltyMax && pair_cost(a, b, shape) >= energy;
   };
-  // The crossing region each junction node is in, and the one an exit's strand reaches next.
+  // The crossing region an exit's strand reaches next (-1: it ends, or meets a junction of none).
   const SkeletonGraph& graph = cache.graph();
-  std::vector<int> region_of_node(graph.nodes.size(), -1);
-  for (int r = 0; r < static_cast<int>(regions.size()); ++r)
-    for (int node : regions[r].nodes) region_of_node[node] = r;
+  const std::vector<int> region_of_node = region_of_nodes(graph, regions);
   const auto next_region = [&](const BranchEnd& e) {
     const int node = graph.branches[e.branch].node[1 - e.side];
     return node < 0 ? -1 : region_of_node[node];
@@ -699,7 +697,7 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
     const CrossingRegion& region = regions[r];
     if (region.exits.size() < 2) continue;
     std::vector<BranchTangent> tangents = cache.of(region.exits);
-    recolour_wide_exit(cache.graph(), region.exits, cache.setup(), tangents);
+    recolour_wide_exit(graph, region.exits, cache.setup(), tangents);
     if (tangents.size() == 2 && (pair_cost(tangents[0], tangents[1], shape) > fold_energy ||
                                  unlike(tangents[0], tangents[1], unlike_fold_energy)))
       continue;
@@ -711,7 +709,7 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
       std::vector<std::vector<double>> e = pair_cost_matrix(tangents, weights);
       add_loop_closing_costs(e, tangents, region.exits, weights.loop);
       const std::vector<std::vector<double>> routed = inner_route_bending(
-          cache.graph(), region, tangents, cache.setup().cut_length, cache.setup().fit_length);
+          graph, region, tangents, cache.setup().cut_length, cache.setup().fit_length);
       for (size_t a = 0; a < e.size(); ++a)
         for (size_t b = a + 1; b < e.size(); ++b) {
           if (!std::isfinite(routed[a][b])) continue;
