@@ -596,9 +596,9 @@ std::vector<std::vector<double>> inner_route_bending(const SkeletonGraph& g, con
 }
 
 // Regions up to this many exits are paired along their inside (RouteCosts): the clusters it
-// mends on generated scenes hold 6 (a rod through a loop) to a few tens; a region of hundreds is a mask the
-// detector cannot read (a textured background segmented as foreground), where the search,
-// one per exit, only costs time.
+// mends on generated scenes hold 6 (a rod through a loop) to a few tens; a region of
+// hundreds is a mask the detector cannot read (a textured background segmented as
+// foreground), where the search, one per exit, only costs time.
 constexpr int kMaxRouteExits = 64;
 // Regions from this many exits are clusters of strands lying along each other, where the
 // route was first used (and tuned) also between a loop's two ends.

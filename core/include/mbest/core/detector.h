@@ -229,7 +229,9 @@ struct DetectorConfig {
   // On 4000 scenes not used to choose it, one `cables` scene broken (three crossings).
   // Below 10 exits the route is not used between a loop's two ends (bending.cpp,
   // kClusterExits): it closed a cable's small loop into a ring (the demo's `cables` scene
-  // 5); `stress` failures then 1765 and 564.
+  // 5); `stress` failures then 1765 and 564. Nor, where it bends more than the pair's own
+  // bending, between two exits whose strands run into one other region: that mended the
+  // `cables` scene above (a loop through a second crossing), changing nothing else.
   double route_min_exits = 6;
   double route_weight = 0.35;
 };
