@@ -353,14 +353,22 @@ void add_loop_closing_costs(std::vector<std::vector<double>>& costs,
   for (size_t a = 0; a < n; ++a)
     for (size_t b = a + 1; b < n; ++b) {
       if (exits[a].branch != exits[b].branch) continue;
-      bool ring = tangents[a].has_colour;
-      for (size_t c = 0; c < n && ring; ++c) {
-        const bool same_width =
-            std::abs(tangents[a].radius - tangents[c].radius) <= kSameWidth * tangents[c].radius;
-        const double tolerance = (same_width ? kSameWidthColourTolerance : 1.0) * kColourTolerance;
-        ring = exits[c].branch == exits[a].branch || !tangents[c].has_colour ||
-               colour_distance(tangents[a].colour, tangents[c].colour) > tolerance;
-      }
+      // Is the loop's colour (at end `end`) that of no other exit: a ring of its own?
+      const auto unlike_the_rest = [&](size_t end) {
+        for (size_t c = 0; c < n; ++c) {
+          if (exits[c].branch == exits[end].branch || !tangents[c].has_colour) continue;
+          const bool same_width = std::abs(tangents[end].radius - tangents[c].radius) <=
+                                  std::max(kSameWidth * tangents[c].radius, kRadiusGrain);
+          const double tolerance = (same_width ? kSameWidthColourTolerance : 1.0) * kColourTolerance;
+          if (colour_distance(tangents[end].colour, tangents[c].colour) <= tolerance) return false;
+        }
+        return true;
+      };
+      // Where the region holds no more than the branch's two ends and two other exits (a
+      // rod crossing itself), either end's colour matching another exit's says "the rod's
+      // loop": a tight loop is lit unevenly, and one end may be a shade off.
+      bool ring = tangents[a].has_colour && unlike_the_rest(a);
+      if (ring && n <= 4 && tangents[b].has_colour) ring = unlike_the_rest(b);
       if (ring) continue;
       costs[a][b] += weight;
       costs[b][a] += weight;

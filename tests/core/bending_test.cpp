@@ -287,6 +287,61 @@ TEST(Bending, TheTwoEndsOfOneBranchCloseIntoARingOnlyAtACost) {
   EXPECT_EQ(costs[0][2], 1.0);
 }
 
+TEST(Bending, ALoopAtItsOwnCrossingIsTheRodsWhenEitherEndSharesItsColour) {
+  // A tight loop is lit unevenly: one of its ends may read a shade off the rod while the
+  // other matches it. Exits 0 and 1 are the loop's ends (branch 7), 2 and 3 the rod's.
+  const std::vector<BranchEnd> ends{{7, 0}, {7, 1}, {3, 0}, {4, 1}};
+  const cv::Vec3f rod{40, 10, -50}, off{40, 22, -58}, near{42, 14, -52};  // 14.4 and 4.6 units
+  const auto exit = [](double deg, cv::Vec3f lab, float radius) {
+    BranchTangent t = coloured(exit_at(deg), lab);
+    t.radius = radius;
+    return t;
+  };
+  const auto loop_cost = [&](const std::vector<BranchTangent>& exits, const std::vector<BranchEnd>& e) {
+    std::vector<std::vector<double>> costs(exits.size(), std::vector<double>(exits.size(), 1.0));
+    add_loop_closing_costs(costs, exits, e, 10);
+    EXPECT_EQ(costs[0][1], costs[1][0]);
+    return costs[0][1] - 1.0;
+  };
+  // The loop narrower than the rod by a pixel: the plain tolerance (10 units) holds.
+  std::vector<BranchTangent> exits{exit(0, off, 3), exit(180, near, 3), exit(10, rod, 4), exit(190, rod, 4)};
+  EXPECT_EQ(loop_cost(exits, ends), 10.0) << "the second end matches the rod: the rod's loop";
+  exits[1].colour = off;
+  EXPECT_EQ(loop_cost(exits, ends), 0.0) << "both ends off: a ring of its own";
+  exits[0].colour = near;
+  EXPECT_EQ(loop_cost(exits, ends), 10.0) << "either end, whichever is listed first";
+  // In a larger region (a cluster of six exits) only the first end's colour is read: a
+  // short branch there is as likely a stretch between two crossings as a loop.
+  exits[0].colour = off;
+  exits[1].colour = near;
+  exits.push_back(exit(90, {70, -40, 30}, 4));
+  exits.push_back(exit(270, {70, -40, 30}, 4));
+  std::vector<BranchEnd> six = ends;
+  six.push_back({5, 0});
+  six.push_back({6, 1});
+  EXPECT_EQ(loop_cost(exits, six), 0.0);
+}
+
+TEST(Bending, RadiiWithinHalfAPixelAreOneWidthForALoopsColour) {
+  // A loop 13 units off its rod's colour (both ends) is the rod's only at the rod's width,
+  // where the tolerance is kSameWidthColourTolerance times wider. Radii are distance-transform
+  // values: 3.16 and 3.61 are neighbours on that grid, one width, though 14 % apart.
+  const cv::Vec3f rod{43, 32, -70}, loop{50, 24, -62};
+  ASSERT_GT(colour_distance(rod, loop), kColourTolerance);
+  ASSERT_LT(colour_distance(rod, loop), kSameWidthColourTolerance * kColourTolerance);
+  const auto cost_at = [&](float loop_radius) {
+    std::vector<BranchTangent> exits{coloured(exit_at(0), loop), coloured(exit_at(180), loop),
+                                     coloured(exit_at(10), rod), coloured(exit_at(190), rod)};
+    exits[0].radius = exits[1].radius = loop_radius;
+    exits[2].radius = exits[3].radius = 3.16f;
+    std::vector<std::vector<double>> costs(4, std::vector<double>(4, 0.0));
+    add_loop_closing_costs(costs, exits, {{7, 0}, {7, 1}, {3, 0}, {4, 1}}, 10);
+    return costs[0][1];
+  };
+  EXPECT_EQ(cost_at(3.61f), 10.0) << "one grain wider: the rod's own loop";
+  EXPECT_EQ(cost_at(4.5f), 0.0) << "a width of its own and a colour of its own: a ring";
+}
+
 TEST(Bending, AClosedDloJoinsAnOpenOneWhereReRoutingCostsLittle) {
   // One crossing region, two passages: the closed DLO 0 turns a right angle from exit A to
   // exit B, the open DLO 1 from C to D; straight on, A-C and B-D, costs less.

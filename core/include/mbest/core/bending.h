@@ -113,14 +113,25 @@ struct PairWeights {
 // coloured ones show it: `weight` is added to the cost of pairing the two ends of a branch
 // unless the branch has a colour and no exit of another branch shares it (within
 // kColourTolerance, or kSameWidthColourTolerance times that for an exit of the branch's
-// width, within kSameWidth: a rod's own loop, lit lighter or darker than the rod beside
-// it). Adds to `costs` (the pair costs of `exits`, symmetric).
+// width, within kSameWidth or kRadiusGrain: a rod's own loop, lit lighter or darker than
+// the rod beside it); where the region has at most four exits, unless neither of the
+// branch's ends shares a colour with another exit. Adds to `costs` (the pair costs of
+// `exits`, symmetric).
 // Added 2026-12-07, the wider tolerance at the same width: the loop property's only failures
 // (a `cables` loop 11-13 Lab units from its rod coming out as a ring) 9 stored -> 3, its
 // failing seeds of 12 (300 cases each) 6 -> 2; on the nine seed sets one `stress` crossing
 // broken, on 2000 fresh scenes one `stress` scene mended (0.66 -> 0.78). Twice the
 // tolerance merged two `stress` rings of their own into rods (0.95 -> 0.62).
 inline constexpr double kSameWidth = 0.1;
+// Radii are distance-transform values, on a grid with steps of up to about half a pixel at
+// thin DLOs' radii (2, 2.24, ..., 3.16, 3.61, 4): two radii this close are one width
+// whatever kSameWidth says. Added 2026-12-07 with the both-ends test above: the loop
+// property's failures (a thin `cables` loop a shade apart from its rod, out as a ring) 6
+// stored known -> 0, and the 4 new ones found that day (campaign seed 138, and seeds
+// 300-331 of the loop property, 300 cases each: 3 of 32 failing -> 0) mended; the 15000
+// scenes of the fifteen seed sets detect the same. The both-ends test in regions of any
+// size broke 3 `stress` scenes (one 0.99 -> 0.80: a short branch of a 12-exit cluster).
+inline constexpr double kRadiusGrain = 0.5;
 inline constexpr double kSameWidthColourTolerance = 1.5;
 void add_loop_closing_costs(std::vector<std::vector<double>>& costs,
                             const std::vector<BranchTangent>& tangents,
