@@ -752,6 +752,20 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
   return passages;
 }
 
+namespace {
+
+// A passage's radii along its path: from `from` at its first pixel to `to` at its last.
+void interpolate_radius(Passage& p, float from, float to) {
+  const size_t n = p.path.size();
+  p.radius.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const float t = n > 1 ? static_cast<float>(k) / static_cast<float>(n - 1) : 0.f;
+    p.radius[k] = from * (1 - t) + to * t;
+  }
+}
+
+}  // namespace
+
 Passage make_passage(int region, BranchEnd from, const BranchTangent& from_tangent, BranchEnd to,
                      const BranchTangent& to_tangent) {
   Passage p;
@@ -763,13 +777,123 @@ Passage make_passage(int region, BranchEnd from, const BranchTangent& from_tange
   p.energy = bending_energy(from_tangent, to_tangent);
   p.path = hermite_path(from_tangent.point, -from_tangent.path_direction, to_tangent.point,
                         to_tangent.path_direction);
-  const size_t n = p.path.size();
-  p.radius.resize(n);
-  for (size_t k = 0; k < n; ++k) {
-    const float t = n > 1 ? static_cast<float>(k) / static_cast<float>(n - 1) : 0.f;
-    p.radius[k] = from_tangent.radius * (1 - t) + to_tangent.radius * t;
-  }
+  interpolate_radius(p, from_tangent.radius, to_tangent.radius);
   return p;
+}
+
+int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<CrossingRegion>& regions,
+                            TangentCache& cache, double min_half_length) {
+  const SkeletonGraph& g = cache.graph();
+  if (cache.setup().bgr.empty()) return 0;
+  std::vector<std::vector<int>> of_region(regions.size());
+  for (int i = 0; i < static_cast<int>(passages.size()); ++i)
+    if (passages[i].region >= 0) of_region[passages[i].region].push_back(i);
+  const double tolerance = 1.5 * kColourTolerance;
+  constexpr size_t kSpan = 6;  // pixels over which a direction of travel is taken
+  int routed = 0;
+  for (size_t r = 0; r < regions.size(); ++r) {
+    const CrossingRegion& region = regions[r];
+    const std::vector<int>& inner = region.inner_branches;
+    if (inner.size() < 2 || of_region[r].size() < 2) continue;
+    const auto local = [&](int node) {
+      const auto it = std::find(region.nodes.begin(), region.nodes.end(), node);
+      return it == region.nodes.end() ? -1 : static_cast<int>(it - region.nodes.begin());
+    };
+    bool done = false;
+    for (size_t i = 0; i < inner.size() && !done; ++i)
+      for (size_t j = i + 1; j < inner.size() && !done; ++j) {
+        const Branch &l1 = g.branches[inner[i]], &l2 = g.branches[inner[j]];
+        if (l1.twin == inner[j] || l1.length < min_half_length || l2.length < min_half_length ||
+            l1.pixels.size() < 2 || l2.pixels.size() < 2)
+          continue;
+        // The region's nodes grouped by its other inner branches.
+        std::vector<int> group(region.nodes.size());
+        for (size_t k = 0; k < group.size(); ++k) group[k] = static_cast<int>(k);
+        const std::function<int(int)> find = [&](int k) { return group[k] == k ? k : group[k] = find(group[k]); };
+        for (size_t k = 0; k < inner.size(); ++k) {
+          if (k == i || k == j) continue;
+          const int a = local(g.branches[inner[k]].node[0]), b = local(g.branches[inner[k]].node[1]);
+          if (a >= 0 && b >= 0) group[find(a)] = find(b);
+        }
+        int groups = 0;
+        for (size_t k = 0; k < group.size(); ++k) groups += find(static_cast<int>(k)) == static_cast<int>(k);
+        if (groups != 2) continue;
+        const int a1 = local(l1.node[0]), b1 = local(l1.node[1]), a2 = local(l2.node[0]), b2 = local(l2.node[1]);
+        if (a1 < 0 || b1 < 0 || a2 < 0 || b2 < 0 || find(a1) == find(b1) || find(a2) == find(b2)) continue;
+        // Each passage within one group; exactly one in the loop's group.
+        const auto group_of = [&](const BranchEnd& e) {
+          const int k = local(g.branches[e.branch].node[e.side]);
+          return k < 0 ? -1 : find(k);
+        };
+        int loop_group = -1, rod = -1;
+        bool within = true;
+        std::vector<int> by_group;
+        for (int p : of_region[r]) {
+          const int gf = group_of(passages[p].from), gt = group_of(passages[p].to);
+          if (gf < 0 || gf != gt) { within = false; break; }
+          by_group.push_back(gf);
+        }
+        if (!within) continue;
+        // Try each group as the rod's: it must hold one passage, the other group the rest.
+        const std::vector<BranchTangent> halves = cache.of({{inner[i], 0}, {inner[j], 0}});
+        if (!halves[0].has_colour || !halves[1].has_colour) continue;
+        const auto nearest = [&](const BranchTangent& h, const Passage& p) {
+          double d = std::numeric_limits<double>::infinity();
+          for (const BranchTangent* t : {&p.from_tangent, &p.to_tangent})
+            if (t->has_colour) d = std::min(d, colour_distance(h.colour, t->colour));
+          return d;
+        };
+        for (int candidate : {find(a1), find(b1)}) {
+          int in_loop_group = 0, p_rod = -1;
+          for (size_t k = 0; k < by_group.size(); ++k)
+            if (by_group[k] == candidate) { ++in_loop_group; p_rod = of_region[r][k]; }
+          if (in_loop_group != 1) continue;
+          bool own = true;
+          for (const BranchTangent& h : halves) {
+            const double to_rod = nearest(h, passages[p_rod]);
+            if (!(to_rod <= tolerance)) own = false;
+            for (int q : of_region[r])
+              if (q != p_rod && nearest(h, passages[q]) <= to_rod) own = false;
+          }
+          if (own) { loop_group = candidate; rod = p_rod; break; }
+        }
+        if (rod < 0) continue;
+        // The halves' pixels from the rod's group to the other.
+        std::vector<cv::Point> h1 = l1.pixels, h2 = l2.pixels;
+        if (find(a1) != loop_group) std::reverse(h1.begin(), h1.end());
+        if (find(a2) != loop_group) std::reverse(h2.begin(), h2.end());
+        Passage& p = passages[rod];
+        const cv::Point2f in = -p.from_tangent.path_direction, out = p.to_tangent.path_direction;
+        // Out along one half, back along the other: the order turning least at the joins.
+        const auto turn = [&](const std::vector<cv::Point>& first, const std::vector<cv::Point>& second) {
+          const cv::Point2f back_in = -start_direction(second, kSpan);  // travel into the rod's group
+          return (1 - in.dot(start_direction(first, kSpan))) + (1 - back_in.dot(out));
+        };
+        if (turn(h2, h1) < turn(h1, h2)) std::swap(h1, h2);
+        std::vector<cv::Point> back(h2.rbegin(), h2.rend());
+        std::vector<cv::Point> path;
+        const auto add = [&](const std::vector<cv::Point>& piece) {
+          for (const cv::Point& q : piece) append_connected(path, q);
+        };
+        add(hermite_path(p.from_tangent.point, in, cv::Point2f(h1.front()), start_direction(h1, kSpan)));
+        const int loop_begin = static_cast<int>(path.size()) - 1;
+        add(h1);
+        add(hermite_path(cv::Point2f(h1.back()), end_direction(h1, kSpan), cv::Point2f(back.front()),
+                         start_direction(back, kSpan)));
+        add(back);
+        const int loop_end = static_cast<int>(path.size()) - 1;
+        add(hermite_path(cv::Point2f(back.back()), end_direction(back, kSpan), p.to_tangent.point, out));
+        const float ra = p.radius.empty() ? p.from_tangent.radius : p.radius.front();
+        const float rb = p.radius.empty() ? p.to_tangent.radius : p.radius.back();
+        p.path = std::move(path);
+        interpolate_radius(p, ra, rb);
+        p.loop_begin = loop_begin;
+        p.loop_end = loop_end;
+        ++routed;
+        done = true;
+      }
+  }
+  return routed;
 }
 
 int keep_passages_on_mask(std::vector<Passage>& passages, const cv::Mat& mask, float r,
@@ -797,12 +921,8 @@ int keep_passages_on_mask(std::vector<Passage>& passages, const cv::Mat& mask, f
     if (path.size() < 2) continue;
     const float ra = p.radius.front(), rb = p.radius.back();
     p.path = std::move(path);
-    const size_t n = p.path.size();
-    p.radius.resize(n);
-    for (size_t k = 0; k < n; ++k) {
-      const float t = static_cast<float>(k) / static_cast<float>(n - 1);
-      p.radius[k] = ra * (1 - t) + rb * t;
-    }
+    p.loop_begin = p.loop_end = -1;
+    interpolate_radius(p, ra, rb);
     ++replaced;
   }
   return replaced;

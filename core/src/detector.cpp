@@ -350,15 +350,39 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
                                         std::vector<std::vector<int>>& crossings_of) {
   std::vector<TopStrand> tops;
   crossings_of.assign(passages.size(), {});
+  // A passage routed round a loop meets the region's other strands along its loop only.
+  std::vector<Passage> loop_part(passages.size());
+  for (size_t p = 0; p < passages.size(); ++p) {
+    const Passage& ps = passages[p];
+    if (ps.loop_begin < 0) continue;
+    loop_part[p] = ps;
+    loop_part[p].path.assign(ps.path.begin() + ps.loop_begin, ps.path.begin() + ps.loop_end + 1);
+    loop_part[p].from_tangent.direction = -start_direction(loop_part[p].path, 6);
+    loop_part[p].to_tangent.direction = end_direction(loop_part[p].path, 6);
+  }
+  const auto strand = [&](int p) -> const Passage& { return passages[p].loop_begin >= 0 ? loop_part[p] : passages[p]; };
   for (const std::vector<int>& list : ordered) {
     std::vector<int> strands;
     for (int p : list)
       if (tr.passage_dlo[p] >= 0) strands.push_back(p);
+    for (int p : strands) {
+      if (passages[p].loop_begin < 0) continue;
+      // The rod's crossing with itself: where its way in and way out come closest.
+      const Passage& ps = passages[p];
+      const std::vector<cv::Point> way_in(ps.path.begin(), ps.path.begin() + ps.loop_begin + 1),
+          way_out(ps.path.begin() + ps.loop_end, ps.path.end());
+      Crossing c;
+      c.location = closest_approach(way_in, way_out, regions[ps.region].centre);
+      c.angle_deg = line_angle_deg(direction_near(way_in, c.location), direction_near(way_out, c.location));
+      c.dlos = {tr.passage_dlo[p], tr.passage_dlo[p]};
+      crossings_of[p].push_back(static_cast<int>(det.crossings.size()));
+      det.crossings.push_back(std::move(c));
+    }
     if (strands.size() < 2) continue;
     const cv::Point2f centre = regions[passages[strands[0]].region].centre;
     for (size_t i = 0; i < strands.size(); ++i)
       for (size_t j = i + 1; j < strands.size(); ++j) {
-        const Passage &top = passages[strands[i]], &under = passages[strands[j]];
+        const Passage &top = strand(strands[i]), &under = strand(strands[j]);
         if (!paths_meet(top.path, under.path)) continue;
         for (const CrossingPoint& x : crossings_between(top, under, centre)) {
           Crossing c;
@@ -374,6 +398,9 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
       tops.push_back({tr.passage_dlo[strands[i]], p.path, p.radius});
     }
   }
+  // A loop's own crossing is met on the way in and again on the way out.
+  for (size_t p = 0; p < passages.size(); ++p)
+    if (passages[p].loop_begin >= 0 && !crossings_of[p].empty()) crossings_of[p].push_back(crossings_of[p].front());
   return tops;
 }
 
@@ -512,6 +539,7 @@ constexpr ConfigField kConfigFields[] = {
     {"loop_reopen_own_colour_cost", &DetectorConfig::loop_reopen_own_colour_cost, 0, 1000},
     {"loop_cross_margin", &DetectorConfig::loop_cross_margin, 0, 1000},
     {"small_loop_radii", &DetectorConfig::small_loop_radii, 0, 1000},
+    {"loop_route_radii", &DetectorConfig::loop_route_radii, 0, 1000},
     {"merge_gain", &DetectorConfig::merge_gain, 0, 1000},
     {"lone_y_cost", &DetectorConfig::lone_y_cost, 0, 1000},
     {"fold_energy", &DetectorConfig::fold_energy, 0, 1000},
@@ -621,6 +649,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
                                 config.colour_fold_energy,
                                 {static_cast<int>(config.route_min_exits), config.route_weight},
                                 config.loop_cross_margin);
+    if (config.loop_route_radii > 0)
+      route_round_inner_loops(built, regions, tangents, config.loop_route_radii * r);
     keep_passages_on_mask(built, mask, r, kMaxOffMask);
     return built;
   });

@@ -235,6 +235,26 @@ TEST(SuiteScenes, ASmallLoopIsPartOfTheCenterlineNotAHole) {
   EXPECT_NEAR(strict_dice(s, d), strict_dice(s, h), 0.005);
 }
 
+// `accuracy-suite.sh`'s default seed set, `cables` scene 000020 (seed 1004): a blue cable
+// makes a loop about 25 px across that lies against a yellow cable. The loop's crossing with
+// itself and its touch with the yellow cable became one crossing region, the loop's two
+// halves inner branches of it, and the blue passage ran straight from its way in to its
+// way out: the loop was off the centerline and the self-crossing at (297, 475) unlisted.
+TEST(SuiteScenes, ALoopAgainstAnotherRodIsPartOfTheCenterline) {
+  const synth::GeneratedScene s = scene("cables", 1004, 20);
+  const cv::Point2f at(297, 475);
+  const Detection d = detected(s);
+  EXPECT_EQ(d.dlos.size(), s.annotation.rods.size());
+  EXPECT_EQ(self_crossings_near(d, at), 1);
+  EXPECT_LE(farthest_truth_near(s, d, at, 25), 2.5);
+  DetectorConfig straight;
+  straight.loop_route_radii = 0;
+  const Detection h = detected(s, straight);
+  EXPECT_EQ(self_crossings_near(h, at), 0);
+  EXPECT_GT(farthest_truth_near(s, h, at, 25), 6);
+  EXPECT_NEAR(strict_dice(s, d), strict_dice(s, h), 0.005);
+}
+
 // `accuracy-suite.sh out/fresh-15000 200 15000`, stress scene 000071: a ring of its own
 // colour touches the other rods at one crossing cluster only. Its colour, which no other
 // exit there shares, keeps it closed.

@@ -162,6 +162,11 @@ struct Passage {
   std::vector<cv::Point> path;    // 8-connected, from from_tangent.point to to_tangent.point
   std::vector<float> radius;      // per path pixel, interpolated between the two exits
   double energy = 0;              // bending energy of the path
+  // A passage routed round a loop inside its region (route_round_inner_loops): the path
+  // index where its way in ends and the loop begins, and where the loop ends and its way
+  // out begins; the way in and the way out cross (the rod's crossing with itself). -1
+  // otherwise.
+  int loop_begin = -1, loop_end = -1;
 };
 
 // How exits are summarised and paired: tangents skip `cut_length` px next to the crossing
@@ -332,6 +337,21 @@ std::vector<std::vector<double>> inner_route_bending(const SkeletonGraph& graph,
 // between the two attachment points, along their path directions, radii interpolated.
 Passage make_passage(int region, BranchEnd from, const BranchTangent& from_tangent, BranchEnd to,
                      const BranchTangent& to_tangent);
+
+// A rod's loop inside a crossing region: where a rod makes a small loop that lies on or
+// against another DLO, the loop's own crossing and the one it makes with that DLO are
+// grouped into one region (Y-pairs, merges), the loop's two halves become inner branches,
+// and the rod's passage runs straight from its way in to its way out, leaving the loop off
+// its centerline and its crossing with itself unlisted. For each region whose nodes fall
+// into two groups joined by exactly two inner branches (each at least `min_half_length`
+// long, not twins), one passage with both exits in one group and the others' exits in the
+// other group, and both branches of that passage's colour (within 1.5 kColourTolerance of
+// one of its exits, and nearer than to any other passage's exits): the passage is routed
+// from its way in along one branch, across the other group, back along the other branch
+// and out, the order bending the least where it joins them. Needs colours (an image).
+// Returns the passages routed.
+int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<CrossingRegion>& regions,
+                            TangentCache& tangents, double min_half_length);
 
 // Keeps each passage's path on the mask. build_passages draws a passage as a Hermite curve
 // between its two exits, which is the strand's course through an ordinary crossing; but

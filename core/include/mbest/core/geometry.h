@@ -1,6 +1,7 @@
 // Small pixel-geometry helpers shared by the pipeline stages.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -34,6 +35,17 @@ std::vector<cv::Point> path_through_mask(const cv::Mat& mask, cv::Point a, cv::P
 inline cv::Point2f unit(cv::Point2f v) {
   const float n = std::hypot(v.x, v.y);
   return n > 0 ? v * (1.0f / n) : cv::Point2f(0, 0);
+}
+
+// The unit direction of travel along the pixel chain `path` (not empty) at its start,
+// towards the pixel `span` on, and at its end, from the pixel `span` before; zero for a
+// single pixel.
+inline cv::Point2f start_direction(const std::vector<cv::Point>& path, size_t span) {
+  return unit(cv::Point2f(path[std::min(span, path.size() - 1)] - path.front()));
+}
+inline cv::Point2f end_direction(const std::vector<cv::Point>& path, size_t span) {
+  const size_t last = path.size() - 1;
+  return unit(cv::Point2f(path[last] - path[last >= span ? last - span : 0]));
 }
 
 // True when the two pixels are 8-neighbours (and not the same pixel).
