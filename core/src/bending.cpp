@@ -3,6 +3,7 @@
 #include "mbest/core/geometry.h"
 #include "mbest/core/median.h"
 #include "mbest/core/prune.h"
+#include "mbest/core/union_find.h"
 
 #include <algorithm>
 #include <array>
@@ -807,23 +808,23 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
             l1.pixels.size() < 2 || l2.pixels.size() < 2)
           continue;
         // The region's nodes grouped by its other inner branches.
-        std::vector<int> group(region.nodes.size());
-        for (size_t k = 0; k < group.size(); ++k) group[k] = static_cast<int>(k);
-        const std::function<int(int)> find = [&](int k) { return group[k] == k ? k : group[k] = find(group[k]); };
+        UnionFind uf(region.nodes.size());
         for (size_t k = 0; k < inner.size(); ++k) {
           if (k == i || k == j) continue;
           const int a = local(g.branches[inner[k]].node[0]), b = local(g.branches[inner[k]].node[1]);
-          if (a >= 0 && b >= 0) group[find(a)] = find(b);
+          if (a >= 0 && b >= 0) uf.unite(a, b);
         }
         int groups = 0;
-        for (size_t k = 0; k < group.size(); ++k) groups += find(static_cast<int>(k)) == static_cast<int>(k);
+        for (int k = 0; k < static_cast<int>(region.nodes.size()); ++k) groups += uf.find(k) == k;
         if (groups != 2) continue;
-        const int a1 = local(l1.node[0]), b1 = local(l1.node[1]), a2 = local(l2.node[0]), b2 = local(l2.node[1]);
-        if (a1 < 0 || b1 < 0 || a2 < 0 || b2 < 0 || find(a1) == find(b1) || find(a2) == find(b2)) continue;
+        const int a1 = local(l1.node[0]), b1 = local(l1.node[1]);
+        const int a2 = local(l2.node[0]), b2 = local(l2.node[1]);
+        if (a1 < 0 || b1 < 0 || a2 < 0 || b2 < 0 || uf.find(a1) == uf.find(b1) || uf.find(a2) == uf.find(b2))
+          continue;
         // Each passage within one group; exactly one in the loop's group.
         const auto group_of = [&](const BranchEnd& e) {
           const int k = local(g.branches[e.branch].node[e.side]);
-          return k < 0 ? -1 : find(k);
+          return k < 0 ? -1 : uf.find(k);
         };
         int loop_group = -1, rod = -1;
         bool within = true;
@@ -843,7 +844,7 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
             if (t->has_colour) d = std::min(d, colour_distance(h.colour, t->colour));
           return d;
         };
-        for (int candidate : {find(a1), find(b1)}) {
+        for (int candidate : {uf.find(a1), uf.find(b1)}) {
           int in_loop_group = 0, p_rod = -1;
           for (size_t k = 0; k < by_group.size(); ++k)
             if (by_group[k] == candidate) { ++in_loop_group; p_rod = of_region[r][k]; }
@@ -860,8 +861,8 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
         if (rod < 0) continue;
         // The halves' pixels from the rod's group to the other.
         std::vector<cv::Point> h1 = l1.pixels, h2 = l2.pixels;
-        if (find(a1) != loop_group) std::reverse(h1.begin(), h1.end());
-        if (find(a2) != loop_group) std::reverse(h2.begin(), h2.end());
+        if (uf.find(a1) != loop_group) std::reverse(h1.begin(), h1.end());
+        if (uf.find(a2) != loop_group) std::reverse(h2.begin(), h2.end());
         Passage& p = passages[rod];
         const cv::Point2f in = -p.from_tangent.path_direction, out = p.to_tangent.path_direction;
         // Out along one half, back along the other: the order turning least at the joins.

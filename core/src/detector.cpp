@@ -360,7 +360,9 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
     loop_part[p].from_tangent.direction = -start_direction(loop_part[p].path, 6);
     loop_part[p].to_tangent.direction = end_direction(loop_part[p].path, 6);
   }
-  const auto strand = [&](int p) -> const Passage& { return passages[p].loop_begin >= 0 ? loop_part[p] : passages[p]; };
+  const auto strand = [&](int p) -> const Passage& {
+    return passages[p].loop_begin >= 0 ? loop_part[p] : passages[p];
+  };
   for (const std::vector<int>& list : ordered) {
     std::vector<int> strands;
     for (int p : list)
@@ -400,7 +402,8 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
   }
   // A loop's own crossing is met on the way in and again on the way out.
   for (size_t p = 0; p < passages.size(); ++p)
-    if (passages[p].loop_begin >= 0 && !crossings_of[p].empty()) crossings_of[p].push_back(crossings_of[p].front());
+    if (passages[p].loop_begin >= 0 && !crossings_of[p].empty())
+      crossings_of[p].push_back(crossings_of[p].front());
   return tops;
 }
 

@@ -2,11 +2,11 @@
 
 #include "mbest/core/bending.h"
 #include "mbest/core/median.h"
+#include "mbest/core/union_find.h"
 
 #include <algorithm>
 #include <functional>
 #include <limits>
-#include <numeric>
 
 namespace mbest {
 namespace {
@@ -14,16 +14,6 @@ namespace {
 // The cost of pairing a set of exits too large to pair exactly (bending.h, kMaxExactExits):
 // a greedy pairing's cost is no fair comparison.
 constexpr double kUnknownCost = std::numeric_limits<double>::infinity();
-
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void unite(int a, int b) { parent[find(a)] = find(b); }
-};
 
 // Can branch `b` join the crossings at its two ends into one: does it join two junctions,
 // and carry one strand (not one of two side-by-side twins, each a strand of its own)?
