@@ -155,10 +155,10 @@ struct DetectorConfig {
   // (four `cables`, up to 0.986 -> 0.996) and worse on one `stress` scene (0.993 -> 0.988),
   // one `stress` pairing failure fewer, nothing else changed; crossing-list recall `cables`
   // 90.87 -> 91.69 % (dev) and 90.80 -> 91.50 % (held-out), `s2` +0.30 and +0.53 points,
-  // `s3` +0.39 and +0.49, `stress` +0.98 and +0.97; 131 more crossings matched
-  // in `cables` for 18 more listed wrongly (precision 98.33 -> 98.23 and 97.79 -> 97.69 %),
-  // 402 for 50 in `stress`, 27 for 2 in `s3`, 9 for 0 in `s2`, 0 for 1 in `s1`. At 3 radii: 80 for 12 in `cables`; at 0: 140 for 28. Needs the
-  // colour image. 0 turns it off.
+  // `s3` +0.39 and +0.49, `stress` +0.98 and +0.97; 131 more crossings matched in `cables`
+  // for 18 more listed wrongly (precision 98.33 -> 98.23 and 97.79 -> 97.69 %), 402 for 50
+  // in `stress`, 27 for 2 in `s3`, 9 for 0 in `s2`, 0 for 1 in `s1`. At 3 radii: 80 for 12
+  // in `cables`; at 0: 140 for 28. Needs the colour image. 0 turns it off.
   double loop_route_radii = 1.5;
   // Two crossing regions joined by a branch up to epsilon_radii long become one when
   // pairing their exits together costs this much less (bending energy units) than pairing
