@@ -801,98 +801,108 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
       return it == region.nodes.end() ? -1 : static_cast<int>(it - region.nodes.begin());
     };
     bool done = false;
-    for (size_t i = 0; i < inner.size() && !done; ++i)
-      for (size_t j = i + 1; j < inner.size() && !done; ++j) {
-        const Branch &l1 = g.branches[inner[i]], &l2 = g.branches[inner[j]];
-        if (l1.twin == inner[j] || l1.length < min_half_length || l2.length < min_half_length ||
-            l1.pixels.size() < 2 || l2.pixels.size() < 2)
-          continue;
-        // The region's nodes grouped by its other inner branches.
-        UnionFind uf(region.nodes.size());
-        for (size_t k = 0; k < inner.size(); ++k) {
-          if (k == i || k == j) continue;
-          const int a = local(g.branches[inner[k]].node[0]), b = local(g.branches[inner[k]].node[1]);
-          if (a >= 0 && b >= 0) uf.unite(a, b);
-        }
-        int groups = 0;
-        for (int k = 0; k < static_cast<int>(region.nodes.size()); ++k) groups += uf.find(k) == k;
-        if (groups != 2) continue;
-        const int a1 = local(l1.node[0]), b1 = local(l1.node[1]);
-        const int a2 = local(l2.node[0]), b2 = local(l2.node[1]);
-        if (a1 < 0 || b1 < 0 || a2 < 0 || b2 < 0 || uf.find(a1) == uf.find(b1) || uf.find(a2) == uf.find(b2))
-          continue;
-        // Each passage within one group; exactly one in the loop's group.
-        const auto group_of = [&](const BranchEnd& e) {
-          const int k = local(g.branches[e.branch].node[e.side]);
-          return k < 0 ? -1 : uf.find(k);
-        };
-        int loop_group = -1, rod = -1;
-        bool within = true;
-        std::vector<int> by_group;
-        for (int p : of_region[r]) {
-          const int gf = group_of(passages[p].from), gt = group_of(passages[p].to);
-          if (gf < 0 || gf != gt) { within = false; break; }
-          by_group.push_back(gf);
-        }
-        if (!within) continue;
-        // Try each group as the rod's: it must hold one passage, the other group the rest.
-        const std::vector<BranchTangent> halves = cache.of({{inner[i], 0}, {inner[j], 0}});
-        if (!halves[0].has_colour || !halves[1].has_colour) continue;
-        const auto nearest = [&](const BranchTangent& h, const Passage& p) {
-          double d = std::numeric_limits<double>::infinity();
-          for (const BranchTangent* t : {&p.from_tangent, &p.to_tangent})
-            if (t->has_colour) d = std::min(d, colour_distance(h.colour, t->colour));
-          return d;
-        };
-        for (int candidate : {uf.find(a1), uf.find(b1)}) {
-          int in_loop_group = 0, p_rod = -1;
-          for (size_t k = 0; k < by_group.size(); ++k)
-            if (by_group[k] == candidate) { ++in_loop_group; p_rod = of_region[r][k]; }
-          if (in_loop_group != 1) continue;
-          bool own = true;
-          for (const BranchTangent& h : halves) {
-            const double to_rod = nearest(h, passages[p_rod]);
-            if (!(to_rod <= tolerance)) own = false;
-            for (int q : of_region[r])
-              if (q != p_rod && nearest(h, passages[q]) <= to_rod) own = false;
+    // First with every passage of the region inside one group; then, where that finds no
+    // loop, letting strands run from one group to the other (a rod lying across the loop,
+    // along one of its halves or through it).
+    for (const bool across : {false, true})
+      for (size_t i = 0; i < inner.size() && !done; ++i)
+        for (size_t j = i + 1; j < inner.size() && !done; ++j) {
+          const Branch &l1 = g.branches[inner[i]], &l2 = g.branches[inner[j]];
+          if (l1.twin == inner[j] || l1.length < min_half_length || l2.length < min_half_length ||
+              l1.pixels.size() < 2 || l2.pixels.size() < 2)
+            continue;
+          // The region's nodes grouped by its other inner branches.
+          UnionFind uf(region.nodes.size());
+          for (size_t k = 0; k < inner.size(); ++k) {
+            if (k == i || k == j) continue;
+            const int a = local(g.branches[inner[k]].node[0]), b = local(g.branches[inner[k]].node[1]);
+            if (a >= 0 && b >= 0) uf.unite(a, b);
           }
-          if (own) { loop_group = candidate; rod = p_rod; break; }
+          int groups = 0;
+          for (int k = 0; k < static_cast<int>(region.nodes.size()); ++k) groups += uf.find(k) == k;
+          if (groups != 2) continue;
+          const int a1 = local(l1.node[0]), b1 = local(l1.node[1]);
+          const int a2 = local(l2.node[0]), b2 = local(l2.node[1]);
+          if (a1 < 0 || b1 < 0 || a2 < 0 || b2 < 0 || uf.find(a1) == uf.find(b1) || uf.find(a2) == uf.find(b2))
+            continue;
+          // Each passage within one group (or, across, from one to the other); exactly one
+          // within the loop's group.
+          const auto group_of = [&](const BranchEnd& e) {
+            const int k = local(g.branches[e.branch].node[e.side]);
+            return k < 0 ? -1 : uf.find(k);
+          };
+          int loop_group = -1, rod = -1;
+          bool within = true;
+          std::vector<int> by_group;
+          for (int p : of_region[r]) {
+            const int gf = group_of(passages[p].from), gt = group_of(passages[p].to);
+            if (across && gf >= 0 && gt >= 0 && gf != gt) {
+              by_group.push_back(-1);  // in neither group: never the rod's passage
+              continue;
+            }
+            if (gf < 0 || gf != gt) { within = false; break; }
+            by_group.push_back(gf);
+          }
+          if (!within) continue;
+          // Try each group as the rod's: it must hold one passage within it, the other group
+          // the rest of those within one.
+          const std::vector<BranchTangent> halves = cache.of({{inner[i], 0}, {inner[j], 0}});
+          if (!halves[0].has_colour || !halves[1].has_colour) continue;
+          const auto nearest = [&](const BranchTangent& h, const Passage& p) {
+            double d = std::numeric_limits<double>::infinity();
+            for (const BranchTangent* t : {&p.from_tangent, &p.to_tangent})
+              if (t->has_colour) d = std::min(d, colour_distance(h.colour, t->colour));
+            return d;
+          };
+          for (int candidate : {uf.find(a1), uf.find(b1)}) {
+            int in_loop_group = 0, p_rod = -1;
+            for (size_t k = 0; k < by_group.size(); ++k)
+              if (by_group[k] == candidate) { ++in_loop_group; p_rod = of_region[r][k]; }
+            if (in_loop_group != 1) continue;
+            bool own = true;
+            for (const BranchTangent& h : halves) {
+              const double to_rod = nearest(h, passages[p_rod]);
+              if (!(to_rod <= tolerance)) own = false;
+              for (int q : of_region[r])
+                if (q != p_rod && nearest(h, passages[q]) <= to_rod) own = false;
+            }
+            if (own) { loop_group = candidate; rod = p_rod; break; }
+          }
+          if (rod < 0) continue;
+          // The halves' pixels from the rod's group to the other.
+          std::vector<cv::Point> h1 = l1.pixels, h2 = l2.pixels;
+          if (uf.find(a1) != loop_group) std::reverse(h1.begin(), h1.end());
+          if (uf.find(a2) != loop_group) std::reverse(h2.begin(), h2.end());
+          Passage& p = passages[rod];
+          const cv::Point2f in = -p.from_tangent.path_direction, out = p.to_tangent.path_direction;
+          // Out along one half, back along the other: the order turning least at the joins.
+          const auto turn = [&](const std::vector<cv::Point>& first, const std::vector<cv::Point>& second) {
+            const cv::Point2f back_in = -start_direction(second, kSpan);  // travel into the rod's group
+            return (1 - in.dot(start_direction(first, kSpan))) + (1 - back_in.dot(out));
+          };
+          if (turn(h2, h1) < turn(h1, h2)) std::swap(h1, h2);
+          std::vector<cv::Point> back(h2.rbegin(), h2.rend());
+          std::vector<cv::Point> path;
+          const auto add = [&](const std::vector<cv::Point>& piece) {
+            for (const cv::Point& q : piece) append_connected(path, q);
+          };
+          add(hermite_path(p.from_tangent.point, in, cv::Point2f(h1.front()), start_direction(h1, kSpan)));
+          const int loop_begin = static_cast<int>(path.size()) - 1;
+          add(h1);
+          add(hermite_path(cv::Point2f(h1.back()), end_direction(h1, kSpan), cv::Point2f(back.front()),
+                           start_direction(back, kSpan)));
+          add(back);
+          const int loop_end = static_cast<int>(path.size()) - 1;
+          add(hermite_path(cv::Point2f(back.back()), end_direction(back, kSpan), p.to_tangent.point, out));
+          const float ra = p.radius.empty() ? p.from_tangent.radius : p.radius.front();
+          const float rb = p.radius.empty() ? p.to_tangent.radius : p.radius.back();
+          p.path = std::move(path);
+          interpolate_radius(p, ra, rb);
+          p.loop_begin = loop_begin;
+          p.loop_end = loop_end;
+          ++routed;
+          done = true;
         }
-        if (rod < 0) continue;
-        // The halves' pixels from the rod's group to the other.
-        std::vector<cv::Point> h1 = l1.pixels, h2 = l2.pixels;
-        if (uf.find(a1) != loop_group) std::reverse(h1.begin(), h1.end());
-        if (uf.find(a2) != loop_group) std::reverse(h2.begin(), h2.end());
-        Passage& p = passages[rod];
-        const cv::Point2f in = -p.from_tangent.path_direction, out = p.to_tangent.path_direction;
-        // Out along one half, back along the other: the order turning least at the joins.
-        const auto turn = [&](const std::vector<cv::Point>& first, const std::vector<cv::Point>& second) {
-          const cv::Point2f back_in = -start_direction(second, kSpan);  // travel into the rod's group
-          return (1 - in.dot(start_direction(first, kSpan))) + (1 - back_in.dot(out));
-        };
-        if (turn(h2, h1) < turn(h1, h2)) std::swap(h1, h2);
-        std::vector<cv::Point> back(h2.rbegin(), h2.rend());
-        std::vector<cv::Point> path;
-        const auto add = [&](const std::vector<cv::Point>& piece) {
-          for (const cv::Point& q : piece) append_connected(path, q);
-        };
-        add(hermite_path(p.from_tangent.point, in, cv::Point2f(h1.front()), start_direction(h1, kSpan)));
-        const int loop_begin = static_cast<int>(path.size()) - 1;
-        add(h1);
-        add(hermite_path(cv::Point2f(h1.back()), end_direction(h1, kSpan), cv::Point2f(back.front()),
-                         start_direction(back, kSpan)));
-        add(back);
-        const int loop_end = static_cast<int>(path.size()) - 1;
-        add(hermite_path(cv::Point2f(back.back()), end_direction(back, kSpan), p.to_tangent.point, out));
-        const float ra = p.radius.empty() ? p.from_tangent.radius : p.radius.front();
-        const float rb = p.radius.empty() ? p.to_tangent.radius : p.radius.back();
-        p.path = std::move(path);
-        interpolate_radius(p, ra, rb);
-        p.loop_begin = loop_begin;
-        p.loop_end = loop_end;
-        ++routed;
-        done = true;
-      }
   }
   return routed;
 }

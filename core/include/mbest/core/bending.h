@@ -348,7 +348,10 @@ Passage make_passage(int region, BranchEnd from, const BranchTangent& from_tange
 // other group, and both branches of that passage's colour (within 1.5 kColourTolerance of
 // one of its exits, and nearer than to any other passage's exits): the passage is routed
 // from its way in along one branch, across the other group, back along the other branch
-// and out, the order bending the least where it joins them. Needs colours (an image).
+// and out, the order bending the least where it joins them. Where no two branches of a
+// region qualify so, passages with an exit in each group (another rod lying across the
+// loop, often along one of its halves where the two merge into one band) are let be,
+// counted in neither group but still in the colour test. Needs colours (an image).
 // Returns the passages routed.
 int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<CrossingRegion>& regions,
                             TangentCache& tangents, double min_half_length);
