@@ -765,6 +765,39 @@ void interpolate_radius(Passage& p, float from, float to) {
   }
 }
 
+// Routes passage `p` round a loop whose two halves, `h1` and `h2`, run from the group of
+// the region's nodes that holds its exits to the other group: out along one half, across,
+// back along the other and out, in the order turning least where it joins them; marks
+// where the loop begins and ends on its path.
+void route_round(Passage& p, std::vector<cv::Point> h1, std::vector<cv::Point> h2) {
+  constexpr size_t kSpan = 6;  // pixels over which a direction of travel is taken
+  const cv::Point2f in = -p.from_tangent.path_direction, out = p.to_tangent.path_direction;
+  const auto turn = [&](const std::vector<cv::Point>& first, const std::vector<cv::Point>& second) {
+    const cv::Point2f back_in = -start_direction(second, kSpan);  // travel into the rod's group
+    return (1 - in.dot(start_direction(first, kSpan))) + (1 - back_in.dot(out));
+  };
+  if (turn(h2, h1) < turn(h1, h2)) std::swap(h1, h2);
+  const std::vector<cv::Point> back(h2.rbegin(), h2.rend());
+  std::vector<cv::Point> path;
+  const auto add = [&](const std::vector<cv::Point>& piece) {
+    for (const cv::Point& q : piece) append_connected(path, q);
+  };
+  add(hermite_path(p.from_tangent.point, in, cv::Point2f(h1.front()), start_direction(h1, kSpan)));
+  const int loop_begin = static_cast<int>(path.size()) - 1;
+  add(h1);
+  add(hermite_path(cv::Point2f(h1.back()), end_direction(h1, kSpan), cv::Point2f(back.front()),
+                   start_direction(back, kSpan)));
+  add(back);
+  const int loop_end = static_cast<int>(path.size()) - 1;
+  add(hermite_path(cv::Point2f(back.back()), end_direction(back, kSpan), p.to_tangent.point, out));
+  const float ra = p.radius.empty() ? p.from_tangent.radius : p.radius.front();
+  const float rb = p.radius.empty() ? p.to_tangent.radius : p.radius.back();
+  p.path = std::move(path);
+  interpolate_radius(p, ra, rb);
+  p.loop_begin = loop_begin;
+  p.loop_end = loop_end;
+}
+
 }  // namespace
 
 Passage make_passage(int region, BranchEnd from, const BranchTangent& from_tangent, BranchEnd to,
@@ -790,7 +823,6 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
   for (int i = 0; i < static_cast<int>(passages.size()); ++i)
     if (passages[i].region >= 0) of_region[passages[i].region].push_back(i);
   const double tolerance = 1.5 * kColourTolerance;
-  constexpr size_t kSpan = 6;  // pixels over which a direction of travel is taken
   int routed = 0;
   for (size_t r = 0; r < regions.size(); ++r) {
     const CrossingRegion& region = regions[r];
@@ -873,33 +905,7 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
           std::vector<cv::Point> h1 = l1.pixels, h2 = l2.pixels;
           if (uf.find(a1) != loop_group) std::reverse(h1.begin(), h1.end());
           if (uf.find(a2) != loop_group) std::reverse(h2.begin(), h2.end());
-          Passage& p = passages[rod];
-          const cv::Point2f in = -p.from_tangent.path_direction, out = p.to_tangent.path_direction;
-          // Out along one half, back along the other: the order turning least at the joins.
-          const auto turn = [&](const std::vector<cv::Point>& first, const std::vector<cv::Point>& second) {
-            const cv::Point2f back_in = -start_direction(second, kSpan);  // travel into the rod's group
-            return (1 - in.dot(start_direction(first, kSpan))) + (1 - back_in.dot(out));
-          };
-          if (turn(h2, h1) < turn(h1, h2)) std::swap(h1, h2);
-          std::vector<cv::Point> back(h2.rbegin(), h2.rend());
-          std::vector<cv::Point> path;
-          const auto add = [&](const std::vector<cv::Point>& piece) {
-            for (const cv::Point& q : piece) append_connected(path, q);
-          };
-          add(hermite_path(p.from_tangent.point, in, cv::Point2f(h1.front()), start_direction(h1, kSpan)));
-          const int loop_begin = static_cast<int>(path.size()) - 1;
-          add(h1);
-          add(hermite_path(cv::Point2f(h1.back()), end_direction(h1, kSpan), cv::Point2f(back.front()),
-                           start_direction(back, kSpan)));
-          add(back);
-          const int loop_end = static_cast<int>(path.size()) - 1;
-          add(hermite_path(cv::Point2f(back.back()), end_direction(back, kSpan), p.to_tangent.point, out));
-          const float ra = p.radius.empty() ? p.from_tangent.radius : p.radius.front();
-          const float rb = p.radius.empty() ? p.to_tangent.radius : p.radius.back();
-          p.path = std::move(path);
-          interpolate_radius(p, ra, rb);
-          p.loop_begin = loop_begin;
-          p.loop_end = loop_end;
+          route_round(passages[rod], std::move(h1), std::move(h2));
           ++routed;
           done = true;
         }
