@@ -835,9 +835,11 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
     bool done = false;
     // First with every passage of the region inside one group; then, where that finds no
     // loop, letting strands run from one group to the other (a rod lying across the loop,
-    // along one of its halves or through it).
+    // along one of its halves or through it): only if some pair of halves was turned down
+    // for such a strand alone, as the second pass would find nothing new otherwise.
+    bool spans = false;
     for (const bool across : {false, true})
-      for (size_t i = 0; i < inner.size() && !done; ++i)
+      for (size_t i = 0; i < inner.size() && !done && (!across || spans); ++i)
         for (size_t j = i + 1; j < inner.size() && !done; ++j) {
           const Branch &l1 = g.branches[inner[i]], &l2 = g.branches[inner[j]];
           if (l1.twin == inner[j] || l1.length < min_half_length || l2.length < min_half_length ||
@@ -868,7 +870,12 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
           std::vector<int> by_group;
           for (int p : of_region[r]) {
             const int gf = group_of(passages[p].from), gt = group_of(passages[p].to);
-            if (across && gf >= 0 && gt >= 0 && gf != gt) {
+            if (gf >= 0 && gt >= 0 && gf != gt) {
+              if (!across) {
+                spans = true;
+                within = false;
+                break;
+              }
               by_group.push_back(-1);  // in neither group: never the rod's passage
               continue;
             }

@@ -150,7 +150,8 @@ struct DetectorConfig {
   // crossing with itself unlisted. Where two inner branches at least this many radii long
   // are all that joins the region's two groups of nodes, one group holding the rod's
   // passage alone and both branches of its colour, the passage is routed round them and
-  // its crossing with itself listed (bending.h, route_round_inner_loops). Added 2026-12-07:
+  // its crossing with itself listed (bending.h, route_round_inner_loops; where no two
+  // branches qualify so, other strands may run from one group to the other). Added 2026-12-07:
   // on the nine seed sets (9000 scenes), strict DICE better by more than 0.002 on 16 scenes
   // (four `cables`, up to 0.986 -> 0.996) and worse on one `stress` scene (0.993 -> 0.988),
   // one `stress` pairing failure fewer, nothing else changed; crossing-list recall `cables`
