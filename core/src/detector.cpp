@@ -528,6 +528,7 @@ struct ConfigField {
   double lo, hi;
 };
 constexpr ConfigField kConfigFields[] = {
+    {"radius_cap", &DetectorConfig::radius_cap, 0, 100},
     {"min_dlo_length_radii", &DetectorConfig::min_dlo_length_radii, 0, 1000},
     {"cut_radii", &DetectorConfig::cut_radii, 0, 100},
     {"fit_radii", &DetectorConfig::fit_radii, 0.5, 100},
@@ -590,6 +591,9 @@ double Detection::total_ms() const {
   return t;
 }
 
+// The share of the skeleton's length whose radius bounds r (DetectorConfig::radius_cap).
+constexpr double kTypicalShare = 0.95;
+
 // How many pixels in a row a passage's Hermite curve may run off the mask before it is
 // re-routed along the mask (keep_passages_on_mask): a curve through an ordinary crossing
 // may shave an edge by a pixel or two. Over the nine seed sets (centre weight 4), 2 mended
@@ -621,7 +625,12 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   float r = 0;
   SkeletonGraph graph = stage("keypoints", [&] {
     SkeletonGraph g = build_skeleton_graph(skeleton, detect_keypoints(skeleton));
-    r = std::max(1.0f, measure_radii(g, mask));
+    r = measure_radii(g, mask);
+    if (config.radius_cap > 0) {
+      const float typical = length_quantile_radius(g, kTypicalShare);
+      if (typical > 0) r = std::min(r, static_cast<float>(config.radius_cap) * typical);
+    }
+    r = std::max(1.0f, r);
     return g;
   });
   const ColourSource colour{config.colour_weight > 0 ? bgr : cv::Mat(), r};

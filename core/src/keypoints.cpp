@@ -222,11 +222,14 @@ std::vector<float> sample_radius(const std::vector<cv::Point>& px, const cv::Mat
   return r;
 }
 
+// Branches shorter than this (px) are junction stubs: their radius is the junction's.
+constexpr size_t kMeasuredBranch = 5;
+
 float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride) {
   float widest = 0;
   for (Branch& b : graph.branches) {
     b.radius = sample_radius(b.pixels, mask, stride);
-    if (b.pixels.size() >= 5) widest = std::max(widest, middle_value(b.radius));
+    if (b.pixels.size() >= kMeasuredBranch) widest = std::max(widest, middle_value(b.radius));
   }
   graph.ring_radius.clear();
   for (const auto& ring : graph.rings) {
@@ -240,6 +243,28 @@ float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride) {
       for (const cv::Point& p : n.pixels) widest = std::max(widest, distance_to_background(mask, p));
   }
   return widest;
+}
+
+float length_quantile_radius(const SkeletonGraph& graph, double share) {
+  std::vector<std::pair<float, size_t>> pieces;  // median radius, length in pixels
+  size_t total = 0;
+  for (const Branch& b : graph.branches)
+    if (b.alive && b.pixels.size() >= kMeasuredBranch && b.radius.size() == b.pixels.size()) {
+      pieces.emplace_back(middle_value(b.radius), b.pixels.size());
+      total += b.pixels.size();
+    }
+  for (size_t i = 0; i < graph.rings.size() && i < graph.ring_radius.size(); ++i)
+    if (!graph.ring_radius[i].empty()) {
+      pieces.emplace_back(middle_value(graph.ring_radius[i]), graph.rings[i].size());
+      total += graph.rings[i].size();
+    }
+  std::sort(pieces.begin(), pieces.end());
+  size_t covered = 0;
+  for (const auto& [radius, length] : pieces) {
+    covered += length;
+    if (static_cast<double>(covered) >= share * static_cast<double>(total)) return radius;
+  }
+  return 0;
 }
 
 }  // namespace mbest

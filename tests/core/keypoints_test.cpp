@@ -87,5 +87,20 @@ TEST(Keypoints, WidestRadiusIgnoresJunctionsButSeesTheWidestDlo) {
   EXPECT_NEAR(r, (21 + 3) / 2.0, 0.5);
 }
 
+// A short wide piece (as where two rods lie side by side) sets the widest radius but not
+// the radius that 95 % of the skeleton's length stays within: the long thin rod's.
+TEST(Keypoints, LengthQuantileRadiusIsTheLongRodsNotAShortWidePiecesOne) {
+  cv::Mat mask = cv::Mat::zeros(300, 600, CV_8UC1);
+  test::draw_rod(mask, test::line_through({300, 150}, 0, 560), 9);
+  test::draw_rod(mask, test::line_through({300, 150}, 90, 30), 21);
+  Skeleton s = skeletonize(mask);
+  SkeletonGraph g = build_skeleton_graph(s, detect_keypoints(s));
+  const float widest = measure_radii(g, mask);
+  EXPECT_NEAR(widest, (21 + 3) / 2.0, 0.5);
+  EXPECT_NEAR(length_quantile_radius(g, 0.95), (9 + 3) / 2.0, 0.5);
+  EXPECT_FLOAT_EQ(length_quantile_radius(g, 1.0), widest);
+  EXPECT_EQ(length_quantile_radius(SkeletonGraph(), 0.95), 0.0f);
+}
+
 }  // namespace
 }  // namespace mbest

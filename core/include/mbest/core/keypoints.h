@@ -70,6 +70,13 @@ float distance_to_background(const cv::Mat& mask, cv::Point p);
 // wider than any DLO, do not inflate it). Returns 0 for an empty graph.
 float measure_radii(SkeletonGraph& graph, const cv::Mat& mask, int stride = 4);
 
+// The radius that a fraction `share` (0-1] of the skeleton's length stays within: branches
+// of at least 5 px and rings, each at its median radius, weighed by its length (call after
+// measure_radii). Junction blobs and strands lying side by side make short wide branches
+// that inflate measure_radii's widest radius; this one stays near the widest DLO's radius
+// where they cover less than 1 - share of the length. Returns 0 for an empty graph.
+float length_quantile_radius(const SkeletonGraph& graph, double share);
+
 // Radius along a pixel chain: distance_to_background every `stride` pixels (and at the
 // last), linearly interpolated between.
 std::vector<float> sample_radius(const std::vector<cv::Point>& chain, const cv::Mat& mask, int stride);
