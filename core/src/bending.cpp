@@ -798,6 +798,98 @@ void route_round(Passage& p, std::vector<cv::Point> h1, std::vector<cv::Point> h
   p.loop_end = loop_end;
 }
 
+// Inner branches `i` and `j` of `region` tried as a rod's loop's two halves: the other
+// inner branches must group the region's nodes in two, each half joining the groups, each
+// passage (`in_region`) within one group (or, `across`, from one to the other, counted in
+// neither), exactly one within a group whose colour both halves share more closely than
+// any other passage's and within 1.5 colour tolerances: that passage is the rod's.
+struct LoopHalves {
+  int rod = -1;                      // the rod's passage, -1 if the pair is no loop
+  std::vector<cv::Point> h1, h2;     // the halves' pixels from the rod's group to the other
+  bool spans = false;                // turned down, not across, for a strand across the groups
+};
+
+LoopHalves loop_halves(const std::vector<Passage>& passages, const std::vector<int>& in_region,
+                       const CrossingRegion& region, size_t i, size_t j, bool across,
+                       TangentCache& cache, double min_half_length) {
+  LoopHalves out;
+  const SkeletonGraph& g = cache.graph();
+  const std::vector<int>& inner = region.inner_branches;
+  const Branch &l1 = g.branches[inner[i]], &l2 = g.branches[inner[j]];
+  if (l1.twin == inner[j] || l1.length < min_half_length || l2.length < min_half_length ||
+      l1.pixels.size() < 2 || l2.pixels.size() < 2)
+    return out;
+  const auto local = [&](int node) {
+    const auto it = std::find(region.nodes.begin(), region.nodes.end(), node);
+    return it == region.nodes.end() ? -1 : static_cast<int>(it - region.nodes.begin());
+  };
+  // The region's nodes grouped by its other inner branches.
+  UnionFind uf(region.nodes.size());
+  for (size_t k = 0; k < inner.size(); ++k) {
+    if (k == i || k == j) continue;
+    const int a = local(g.branches[inner[k]].node[0]), b = local(g.branches[inner[k]].node[1]);
+    if (a >= 0 && b >= 0) uf.unite(a, b);
+  }
+  int groups = 0;
+  for (int k = 0; k < static_cast<int>(region.nodes.size()); ++k) groups += uf.find(k) == k;
+  if (groups != 2) return out;
+  const int a1 = local(l1.node[0]), b1 = local(l1.node[1]);
+  const int a2 = local(l2.node[0]), b2 = local(l2.node[1]);
+  if (a1 < 0 || b1 < 0 || a2 < 0 || b2 < 0 || uf.find(a1) == uf.find(b1) || uf.find(a2) == uf.find(b2))
+    return out;
+  // Each passage's group, -1 for one across the groups (when allowed).
+  const auto group_of = [&](const BranchEnd& e) {
+    const int k = local(g.branches[e.branch].node[e.side]);
+    return k < 0 ? -1 : uf.find(k);
+  };
+  std::vector<int> by_group;
+  for (int p : in_region) {
+    const int gf = group_of(passages[p].from), gt = group_of(passages[p].to);
+    if (gf >= 0 && gt >= 0 && gf != gt) {
+      if (!across) {
+        out.spans = true;
+        return out;
+      }
+      by_group.push_back(-1);  // in neither group: never the rod's passage
+      continue;
+    }
+    if (gf < 0 || gf != gt) return out;
+    by_group.push_back(gf);
+  }
+  // Try each group as the rod's: it must hold one passage within it, the other group the
+  // rest of those within one.
+  const std::vector<BranchTangent> halves = cache.of({{inner[i], 0}, {inner[j], 0}});
+  if (!halves[0].has_colour || !halves[1].has_colour) return out;
+  const auto nearest = [&](const BranchTangent& h, const Passage& p) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const BranchTangent* t : {&p.from_tangent, &p.to_tangent})
+      if (t->has_colour) d = std::min(d, colour_distance(h.colour, t->colour));
+    return d;
+  };
+  const double tolerance = 1.5 * kColourTolerance;
+  for (int candidate : {uf.find(a1), uf.find(b1)}) {
+    int in_loop_group = 0, p_rod = -1;
+    for (size_t k = 0; k < by_group.size(); ++k)
+      if (by_group[k] == candidate) { ++in_loop_group; p_rod = in_region[k]; }
+    if (in_loop_group != 1) continue;
+    bool own = true;
+    for (const BranchTangent& h : halves) {
+      const double to_rod = nearest(h, passages[p_rod]);
+      if (!(to_rod <= tolerance)) own = false;
+      for (int q : in_region)
+        if (q != p_rod && nearest(h, passages[q]) <= to_rod) own = false;
+    }
+    if (!own) continue;
+    out.rod = p_rod;
+    out.h1 = l1.pixels;
+    out.h2 = l2.pixels;
+    if (uf.find(a1) != candidate) std::reverse(out.h1.begin(), out.h1.end());
+    if (uf.find(a2) != candidate) std::reverse(out.h2.begin(), out.h2.end());
+    return out;
+  }
+  return out;
+}
+
 }  // namespace
 
 Passage make_passage(int region, BranchEnd from, const BranchTangent& from_tangent, BranchEnd to,
@@ -817,102 +909,27 @@ Passage make_passage(int region, BranchEnd from, const BranchTangent& from_tange
 
 int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<CrossingRegion>& regions,
                             TangentCache& cache, double min_half_length) {
-  const SkeletonGraph& g = cache.graph();
   if (cache.setup().bgr.empty()) return 0;
   std::vector<std::vector<int>> of_region(regions.size());
   for (int i = 0; i < static_cast<int>(passages.size()); ++i)
     if (passages[i].region >= 0) of_region[passages[i].region].push_back(i);
-  const double tolerance = 1.5 * kColourTolerance;
   int routed = 0;
   for (size_t r = 0; r < regions.size(); ++r) {
-    const CrossingRegion& region = regions[r];
-    const std::vector<int>& inner = region.inner_branches;
+    const std::vector<int>& inner = regions[r].inner_branches;
     if (inner.size() < 2 || of_region[r].size() < 2) continue;
-    const auto local = [&](int node) {
-      const auto it = std::find(region.nodes.begin(), region.nodes.end(), node);
-      return it == region.nodes.end() ? -1 : static_cast<int>(it - region.nodes.begin());
-    };
-    bool done = false;
     // First with every passage of the region inside one group; then, where that finds no
     // loop, letting strands run from one group to the other (a rod lying across the loop,
     // along one of its halves or through it): only if some pair of halves was turned down
     // for such a strand alone, as the second pass would find nothing new otherwise.
-    bool spans = false;
+    bool done = false, spans = false;
     for (const bool across : {false, true})
       for (size_t i = 0; i < inner.size() && !done && (!across || spans); ++i)
         for (size_t j = i + 1; j < inner.size() && !done; ++j) {
-          const Branch &l1 = g.branches[inner[i]], &l2 = g.branches[inner[j]];
-          if (l1.twin == inner[j] || l1.length < min_half_length || l2.length < min_half_length ||
-              l1.pixels.size() < 2 || l2.pixels.size() < 2)
-            continue;
-          // The region's nodes grouped by its other inner branches.
-          UnionFind uf(region.nodes.size());
-          for (size_t k = 0; k < inner.size(); ++k) {
-            if (k == i || k == j) continue;
-            const int a = local(g.branches[inner[k]].node[0]), b = local(g.branches[inner[k]].node[1]);
-            if (a >= 0 && b >= 0) uf.unite(a, b);
-          }
-          int groups = 0;
-          for (int k = 0; k < static_cast<int>(region.nodes.size()); ++k) groups += uf.find(k) == k;
-          if (groups != 2) continue;
-          const int a1 = local(l1.node[0]), b1 = local(l1.node[1]);
-          const int a2 = local(l2.node[0]), b2 = local(l2.node[1]);
-          if (a1 < 0 || b1 < 0 || a2 < 0 || b2 < 0 || uf.find(a1) == uf.find(b1) || uf.find(a2) == uf.find(b2))
-            continue;
-          // Each passage within one group (or, across, from one to the other); exactly one
-          // within the loop's group.
-          const auto group_of = [&](const BranchEnd& e) {
-            const int k = local(g.branches[e.branch].node[e.side]);
-            return k < 0 ? -1 : uf.find(k);
-          };
-          int loop_group = -1, rod = -1;
-          bool within = true;
-          std::vector<int> by_group;
-          for (int p : of_region[r]) {
-            const int gf = group_of(passages[p].from), gt = group_of(passages[p].to);
-            if (gf >= 0 && gt >= 0 && gf != gt) {
-              if (!across) {
-                spans = true;
-                within = false;
-                break;
-              }
-              by_group.push_back(-1);  // in neither group: never the rod's passage
-              continue;
-            }
-            if (gf < 0 || gf != gt) { within = false; break; }
-            by_group.push_back(gf);
-          }
-          if (!within) continue;
-          // Try each group as the rod's: it must hold one passage within it, the other group
-          // the rest of those within one.
-          const std::vector<BranchTangent> halves = cache.of({{inner[i], 0}, {inner[j], 0}});
-          if (!halves[0].has_colour || !halves[1].has_colour) continue;
-          const auto nearest = [&](const BranchTangent& h, const Passage& p) {
-            double d = std::numeric_limits<double>::infinity();
-            for (const BranchTangent* t : {&p.from_tangent, &p.to_tangent})
-              if (t->has_colour) d = std::min(d, colour_distance(h.colour, t->colour));
-            return d;
-          };
-          for (int candidate : {uf.find(a1), uf.find(b1)}) {
-            int in_loop_group = 0, p_rod = -1;
-            for (size_t k = 0; k < by_group.size(); ++k)
-              if (by_group[k] == candidate) { ++in_loop_group; p_rod = of_region[r][k]; }
-            if (in_loop_group != 1) continue;
-            bool own = true;
-            for (const BranchTangent& h : halves) {
-              const double to_rod = nearest(h, passages[p_rod]);
-              if (!(to_rod <= tolerance)) own = false;
-              for (int q : of_region[r])
-                if (q != p_rod && nearest(h, passages[q]) <= to_rod) own = false;
-            }
-            if (own) { loop_group = candidate; rod = p_rod; break; }
-          }
-          if (rod < 0) continue;
-          // The halves' pixels from the rod's group to the other.
-          std::vector<cv::Point> h1 = l1.pixels, h2 = l2.pixels;
-          if (uf.find(a1) != loop_group) std::reverse(h1.begin(), h1.end());
-          if (uf.find(a2) != loop_group) std::reverse(h2.begin(), h2.end());
-          route_round(passages[rod], std::move(h1), std::move(h2));
+          LoopHalves loop = loop_halves(passages, of_region[r], regions[r], i, j, across, cache,
+                                        min_half_length);
+          spans |= loop.spans;
+          if (loop.rod < 0) continue;
+          route_round(passages[loop.rod], std::move(loop.h1), std::move(loop.h2));
           ++routed;
           done = true;
         }
