@@ -770,11 +770,10 @@ void interpolate_radius(Passage& p, float from, float to) {
 // back along the other and out, in the order turning least where it joins them; marks
 // where the loop begins and ends on its path.
 void route_round(Passage& p, std::vector<cv::Point> h1, std::vector<cv::Point> h2) {
-  constexpr size_t kSpan = 6;  // pixels over which a direction of travel is taken
   const cv::Point2f in = -p.from_tangent.path_direction, out = p.to_tangent.path_direction;
   const auto turn = [&](const std::vector<cv::Point>& first, const std::vector<cv::Point>& second) {
-    const cv::Point2f back_in = -start_direction(second, kSpan);  // travel into the rod's group
-    return (1 - in.dot(start_direction(first, kSpan))) + (1 - back_in.dot(out));
+    const cv::Point2f back_in = -start_direction(second, kDirectionSpan);  // travel into the rod's group
+    return (1 - in.dot(start_direction(first, kDirectionSpan))) + (1 - back_in.dot(out));
   };
   if (turn(h2, h1) < turn(h1, h2)) std::swap(h1, h2);
   const std::vector<cv::Point> back(h2.rbegin(), h2.rend());
@@ -782,14 +781,14 @@ void route_round(Passage& p, std::vector<cv::Point> h1, std::vector<cv::Point> h
   const auto add = [&](const std::vector<cv::Point>& piece) {
     for (const cv::Point& q : piece) append_connected(path, q);
   };
-  add(hermite_path(p.from_tangent.point, in, cv::Point2f(h1.front()), start_direction(h1, kSpan)));
+  add(hermite_path(p.from_tangent.point, in, cv::Point2f(h1.front()), start_direction(h1, kDirectionSpan)));
   const int loop_begin = static_cast<int>(path.size()) - 1;
   add(h1);
-  add(hermite_path(cv::Point2f(h1.back()), end_direction(h1, kSpan), cv::Point2f(back.front()),
-                   start_direction(back, kSpan)));
+  add(hermite_path(cv::Point2f(h1.back()), end_direction(h1, kDirectionSpan), cv::Point2f(back.front()),
+                   start_direction(back, kDirectionSpan)));
   add(back);
   const int loop_end = static_cast<int>(path.size()) - 1;
-  add(hermite_path(cv::Point2f(back.back()), end_direction(back, kSpan), p.to_tangent.point, out));
+  add(hermite_path(cv::Point2f(back.back()), end_direction(back, kDirectionSpan), p.to_tangent.point, out));
   const float ra = p.radius.empty() ? p.from_tangent.radius : p.radius.front();
   const float rb = p.radius.empty() ? p.to_tangent.radius : p.radius.back();
   p.path = std::move(path);

@@ -162,7 +162,7 @@ std::vector<cv::Point2f> side_changes(const std::vector<cv::Point>& a, const std
 
 // A path's direction at its pixel nearest to `at`, over a few pixels either side.
 cv::Point2f direction_near(const std::vector<cv::Point>& path, cv::Point2f at) {
-  return cv::Point2f(path_direction(path, nearest_pixel(path, at), 6));
+  return cv::Point2f(path_direction(path, nearest_pixel(path, at), kDirectionSpan));
 }
 
 struct CrossingPoint {
@@ -357,8 +357,8 @@ std::vector<TopStrand> record_crossings(Detection& det, const std::vector<Passag
     if (ps.loop_begin < 0) continue;
     loop_part[p] = ps;
     loop_part[p].path.assign(ps.path.begin() + ps.loop_begin, ps.path.begin() + ps.loop_end + 1);
-    loop_part[p].from_tangent.direction = -start_direction(loop_part[p].path, 6);
-    loop_part[p].to_tangent.direction = end_direction(loop_part[p].path, 6);
+    loop_part[p].from_tangent.direction = -start_direction(loop_part[p].path, kDirectionSpan);
+    loop_part[p].to_tangent.direction = end_direction(loop_part[p].path, kDirectionSpan);
   }
   const auto strand = [&](int p) -> const Passage& {
     return passages[p].loop_begin >= 0 ? loop_part[p] : passages[p];

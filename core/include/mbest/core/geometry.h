@@ -37,6 +37,10 @@ inline cv::Point2f unit(cv::Point2f v) {
   return n > 0 ? v * (1.0f / n) : cv::Point2f(0, 0);
 }
 
+// Pixels over which a direction of travel along a path is taken where no fit is needed
+// (a routed loop's halves and joins, a crossing's strands).
+constexpr size_t kDirectionSpan = 6;
+
 // The unit direction of travel along the pixel chain `path` (not empty) at its start,
 // towards the pixel `span` on, and at its end, from the pixel `span` before; zero for a
 // single pixel.
