@@ -1152,11 +1152,15 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     // region alone, though together the two strands left ending must pair too: each Y alone
     // was forced into a dear pair (a strand paired with a link whose colour mixes two
     // strands lying along each other) that joining undoes. Taken before the others, best
-    // gain first (its cost is the negative gain).
+    // gain first (its cost is the negative gain). The gain asked grows from none at
+    // min_link (the paper's epsilon, within which two Ys are one crossing whatever they
+    // gain) to min_gain at twice it, so that Ys just past epsilon are not judged by
+    // another rule than Ys just within it.
     if (!joined) {
       const double gain = cache.least_cost(a.exits) + cache.least_cost(c.exits) -
                           pairing_cost(t, pairs, setup.weights);
-      if (gain >= min_gain) joined = true, cost = -gain;
+      const double need = min_link > 0 ? min_gain * std::min(1.0, (b.length - min_link) / min_link) : min_gain;
+      if (gain > 0 && gain >= need) joined = true, cost = -gain;
     }
     if (joined) candidates.push_back({cost, ra, {rb}, {i}, std::move(exits)});
   }

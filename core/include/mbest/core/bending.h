@@ -227,10 +227,13 @@ class TangentCache {
 // pairing joins each exit of one Y to one of the other, each pair at most `max_cost` (a
 // shallow crossing with a long overlap, where which strand each Y alone leaves ending is
 // a near tie). Or, whatever the strands left ending, when pairing the exits of both
-// together costs at least `min_gain` less than pairing each region alone (as
-// merge_regions_by_pairing_cost, though joined the two strands left ending pair too): a
-// shallow crossing whose Ys each paired a strand with the link between them because the
-// link's colour mixes both strands. Also two plain Ys each linked as above to a region of
+// together costs less than pairing each region alone (as merge_regions_by_pairing_cost,
+// though joined the two strands left ending pair too), by at least `min_gain` times the
+// share of `min_link` by which the link is longer than `min_link` (at most all of it):
+// a shallow crossing whose Ys each paired a strand with the link between them because the
+// link's colour mixes both strands. (Asking the full `min_gain` just past `min_link`, the
+// paper's epsilon, left two Ys 10.0 r apart as two crossings that joined would pair right:
+// their gain was 0.9, suite `s3` seed 13003 scene 115, one rod traversed twice.) Also two plain Ys each linked as above to a region of
 // even exit count between them (a third DLO crossing two strands that lie along each other
 // from one Y to the other): the three are one crossing when the joined least-cost pairing
 // joins each exit of one Y to one of the other, at most `max_cost` each, and the middle
