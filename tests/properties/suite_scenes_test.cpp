@@ -40,6 +40,15 @@ double strict_dice(const synth::GeneratedScene& s, const Detection& d) {
   return dice.ok() ? dice.value().strict : 0.0;
 }
 
+// The scene has `rods` rods, and the detector finds as many DLOs, at a strict matched DICE
+// of at least `min_strict`.
+void expect_as_many_dlos_as_rods(const synth::GeneratedScene& s, size_t rods, double min_strict) {
+  ASSERT_EQ(s.annotation.rods.size(), rods);
+  const Detection d = detected(s);
+  EXPECT_EQ(d.dlos.size(), rods);
+  EXPECT_GE(strict_dice(s, d), min_strict);
+}
+
 int closed_dlos(const Detection& d) {
   int n = 0;
   for (const Dlo& dlo : d.dlos) n += dlo.closed;
@@ -326,10 +335,7 @@ TEST(SuiteScenes, YsJustPastEpsilonJoinOnTheirGain) {
 // DICE 0.62). The Ys' pass runs again after merging.
 TEST(SuiteScenes, ARodsEndHiddenAlongAnotherUpToAMergedCrossingIsOneDlo) {
   const synth::GeneratedScene s = scene("s2", 29002, 153);
-  ASSERT_EQ(s.annotation.rods.size(), 2u);
-  const Detection d = detected(s);
-  EXPECT_EQ(d.dlos.size(), 2u);
-  EXPECT_GE(strict_dice(s, d), 0.95);
+  expect_as_many_dlos_as_rods(s, 2, 0.95);
 }
 
 // `accuracy-suite.sh out/fresh-15000 200 15000`, stress scene 000071: a ring of its own
@@ -393,10 +399,7 @@ TEST(SuiteScenes, ARingOfARodsColourLyingAcrossItStaysARing) {
 // one strand of it goes the other way).
 TEST(SuiteScenes, AClusterTooLargeToPairExactlyIsStillPairedAsOne) {
   const synth::GeneratedScene s = scene("stress", 7005, 169);
-  ASSERT_EQ(s.annotation.rods.size(), 7u);
-  const Detection d = detected(s);
-  EXPECT_EQ(d.dlos.size(), 7u);
-  EXPECT_GE(strict_dice(s, d), 0.78);
+  expect_as_many_dlos_as_rods(s, 7, 0.78);
 }
 
 // `accuracy-suite.sh out/set-13000 200 13000`, stress scene 000011: five rods, strands of
@@ -406,10 +409,7 @@ TEST(SuiteScenes, AClusterTooLargeToPairExactlyIsStillPairedAsOne) {
 // (DetectorConfig::route_min_exits), all are right (0.996).
 TEST(SuiteScenes, AClusterIsPairedAlongItsInside) {
   const synth::GeneratedScene s = scene("stress", 13005, 11);
-  ASSERT_EQ(s.annotation.rods.size(), 5u);
-  const Detection d = detected(s);
-  EXPECT_EQ(d.dlos.size(), 5u);
-  EXPECT_GE(strict_dice(s, d), 0.95);
+  expect_as_many_dlos_as_rods(s, 5, 0.95);
   DetectorConfig hermite_only;
   hermite_only.route_min_exits = 0;
   EXPECT_LT(strict_dice(s, detected(s, hermite_only)), 0.7) << "this scene no longer shows what the route adds";
