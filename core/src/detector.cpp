@@ -653,21 +653,22 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
                            config.small_loop_radii);
   });
   auto passages = stage("bending", [&] {
-    const auto join_ys = [&] {
+    const auto join_ys = [&](bool short_links) {
       return pair_lone_ys(graph, regions, tangents, config.epsilon_radii * r, config.wide_radii * r,
-                          config.lone_y_cost, config.merge_gain);
+                          config.lone_y_cost, config.merge_gain, short_links);
     };
     const auto merge = [&] {
       return merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,
                                            config.merge_gain, config.wide_radii * r, spur_length);
     };
-    join_ys();
+    join_ys(false);
     merge();
     // Merging a Y with an X leaves a region of odd exit count that the Ys' pass did not see
     // (a rod's end lying hidden along another from a Y to a crossing with a third strand),
     // and that pass joins each region once: the Ys' pass once more, and the merging its
-    // joins allow.
-    if (join_ys() > 0) merge();
+    // joins allow. Now over short links too: merging leaves two odd regions alone however
+    // short their link, and Y-pair matching is done.
+    if (join_ys(true) > 0) merge();
     auto built = build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy,
                                 config.colour_fold_energy,
                                 {static_cast<int>(config.route_min_exits), config.route_weight},

@@ -864,6 +864,32 @@ TEST(Bending, TwoYsWhoseStrandsBothRunThroughAreOneCrossing) {
   }
 }
 
+// The same two Ys with a link no longer than min_link: Y-pair matching's case, left alone
+// unless short links are asked for (after region merging, when two regions of odd exit
+// count joined by a short link are left to this pass).
+TEST(Bending, YsJoinedByAShortLinkArePairedOnlyWithShortLinks) {
+  HandGraph h;
+  const int y1 = h.node({100, 100}, Node::Kind::junction), y2 = h.node({160, 100}, Node::Kind::junction);
+  h.branch(h.node({40, 85}, Node::Kind::end), y1);
+  h.branch(h.node({40, 120}, Node::Kind::end), y1);
+  h.branch(y2, h.node({220, 85}, Node::Kind::end));
+  h.branch(y2, h.node({220, 120}, Node::Kind::end));
+  h.branch(y1, y2);  // 60 px
+  const PairingSetup setup{2, 8, cv::Mat(), {0.0}};
+  {
+    SkeletonGraph g = h.graph;
+    TangentCache cache(g, setup);
+    std::vector<CrossingRegion> regions = h.regions_of({y1, y2});
+    EXPECT_EQ(pair_lone_ys(g, regions, cache, 80, 200, 2.0), 0);
+    EXPECT_EQ(regions.size(), 2u);
+  }
+  TangentCache cache(h.graph, setup);
+  std::vector<CrossingRegion> regions = h.regions_of({y1, y2});
+  EXPECT_EQ(pair_lone_ys(h.graph, regions, cache, 80, 200, 2.0, 1.0, true), 1);
+  ASSERT_EQ(regions.size(), 1u);
+  EXPECT_EQ(regions[0].exits.size(), 4u);
+}
+
 // Two strands crossing at a shallow angle, lying along each other between two junctions:
 // the branch joining them shows a colour between the two (purple between red and blue), and
 // a white DLO crosses at the left junction. Red runs straight along the link at the left and

@@ -229,19 +229,25 @@ class TangentCache {
 // a near tie). Or, whatever the strands left ending, when pairing the exits of both
 // together costs less than pairing each region alone (as merge_regions_by_pairing_cost,
 // though joined the two strands left ending pair too), by at least `min_gain` times the
-// share of `min_link` by which the link is longer than `min_link` (at most all of it):
-// a shallow crossing whose Ys each paired a strand with the link between them because the
-// link's colour mixes both strands. (Asking the full `min_gain` just past `min_link`, the
-// paper's epsilon, left two Ys 10.0 r apart as two crossings that joined would pair right:
-// their gain was 0.9, suite `s3` seed 13003 scene 115, one rod traversed twice.) Also two plain Ys each linked as above to a region of
-// even exit count between them (a third DLO crossing two strands that lie along each other
+// share of `min_link` by which the link is longer than `min_link` (at most all of it, and
+// more than nothing): a shallow crossing whose Ys each paired a strand with the link
+// between them because the link's colour mixes both strands. (Asking the full `min_gain`
+// just past `min_link`, the paper's epsilon, left two Ys 10.0 r apart as two crossings
+// that joined would pair right: their gain was 0.9, suite `s3` seed 13003 scene 115, one
+// rod traversed twice.) With `short_links`, links up to `min_link` are weighed alike: run
+// after merge_regions_by_pairing_cost, which leaves two regions of odd exit count alone
+// (their case is this one) and can make them out of Ys that Y-pair matching had already
+// used, a strand lying along another through a knot of three (suite `cables` seed 29004
+// scene 38: two regions of five exits joined by two links of 2.3 and 2.7 r).
+// Also two plain Ys each linked as above (longer than `min_link`) to a region of even
+// exit count between them (a third DLO crossing two strands that lie along each other
 // from one Y to the other): the three are one crossing when the joined least-cost pairing
 // joins each exit of one Y to one of the other, at most `max_cost` each, and the middle
 // region's exits among themselves. Cheapest first (a gain counting as its negative cost),
 // each region once. Returns the joins made (two for a Y, a crossing and a Y).
 int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, TangentCache& cache,
                  double min_link, double max_link, double max_cost,
-                 double min_gain = std::numeric_limits<double>::infinity());
+                 double min_gain = std::numeric_limits<double>::infinity(), bool short_links = false);
 
 // Junction grouping decides by distance; where three strands cross near one point the
 // skeleton may split the crossing into two regions a few radii apart, and each alone can
