@@ -666,8 +666,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     // Merging a Y with an X leaves a region of odd exit count that the Ys' pass did not see
     // (a rod's end lying hidden along another from a Y to a crossing with a third strand),
     // and that pass joins each region once: the Ys' pass once more, and the merging its
-    // joins allow. Now over short links too: merging leaves two odd regions alone however
-    // short their link, and Y-pair matching is done.
+    // joins allow. This pass takes links within epsilon too: merging leaves two odd regions
+    // alone however short their link, and Y-pair matching ran before it.
     if (join_ys(true) > 0) merge();
     auto built = build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy,
                                 config.colour_fold_energy,
