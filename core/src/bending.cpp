@@ -1092,7 +1092,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
 }
 
 int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, TangentCache& cache,
-                 double min_link, double max_link, double max_cost, double min_gain, bool short_links) {
+                 double min_link, double max_cost, double min_gain, bool short_links) {
   if (max_cost <= 0) return 0;
   const PairingSetup& setup = cache.setup();
   // The exit a region with an odd exit count leaves unpaired (a DLO's end), -1 if none.
@@ -1114,7 +1114,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
   std::vector<Candidate> candidates;
   for (int i = 0; i < static_cast<int>(g.branches.size()); ++i) {
     const Branch& b = g.branches[i];
-    if (!b.alive || b.twin >= 0 || (b.length <= min_link && !short_links) || b.length > max_link) continue;
+    if (!b.alive || b.twin >= 0 || (b.length <= min_link && !short_links)) continue;
     const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
     if (ra < 0 || rb < 0 || ra == rb) continue;
     const CrossingRegion &a = regions[ra], &c = regions[rb];
@@ -1176,7 +1176,7 @@ int pair_lone_ys(SkeletonGraph& g, std::vector<CrossingRegion>& regions, Tangent
     std::vector<std::pair<int, int>> ys;  // (link, region): plain Ys linked to m
     for (const BranchEnd& e : mid.exits) {
       const Branch& b = g.branches[e.branch];
-      if (!b.alive || b.twin >= 0 || b.length <= min_link || b.length > max_link) continue;
+      if (!b.alive || b.twin >= 0 || b.length <= min_link) continue;
       const int other = region_of[b.node[1 - e.side]];
       if (other >= 0 && other != m && regions[other].exits.size() == 3) ys.push_back({e.branch, other});
     }

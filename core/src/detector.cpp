@@ -654,8 +654,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
   });
   auto passages = stage("bending", [&] {
     const auto join_ys = [&](bool short_links) {
-      return pair_lone_ys(graph, regions, tangents, config.epsilon_radii * r, config.wide_radii * r,
-                          config.lone_y_cost, config.merge_gain, short_links);
+      return pair_lone_ys(graph, regions, tangents, config.epsilon_radii * r, config.lone_y_cost,
+                          config.merge_gain, short_links);
     };
     const auto merge = [&] {
       return merge_regions_by_pairing_cost(graph, regions, tangents, config.epsilon_radii * r,

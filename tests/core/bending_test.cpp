@@ -852,7 +852,7 @@ TEST(Bending, TwoYsWhoseStrandsBothRunThroughAreOneCrossing) {
     ASSERT_EQ(pairs.size(), 1u);
     for (int k : {pairs[0].first, pairs[0].second}) EXPECT_NE(regions[y].exits[k].branch, ending);
   }
-  ASSERT_EQ(pair_lone_ys(g, regions, cache, 30, 200, 2.0), 1);
+  ASSERT_EQ(pair_lone_ys(g, regions, cache, 30, 2.0), 1);
   ASSERT_EQ(regions.size(), 1u);
   ASSERT_EQ(regions[0].exits.size(), 4u);
   const std::vector<BranchTangent> t = cache.of(regions[0].exits);
@@ -880,12 +880,12 @@ TEST(Bending, YsJoinedByAShortLinkArePairedOnlyWithShortLinks) {
     SkeletonGraph g = h.graph;
     TangentCache cache(g, setup);
     std::vector<CrossingRegion> regions = h.regions_of({y1, y2});
-    EXPECT_EQ(pair_lone_ys(g, regions, cache, 80, 200, 2.0), 0);
+    EXPECT_EQ(pair_lone_ys(g, regions, cache, 80, 2.0), 0);
     EXPECT_EQ(regions.size(), 2u);
   }
   TangentCache cache(h.graph, setup);
   std::vector<CrossingRegion> regions = h.regions_of({y1, y2});
-  EXPECT_EQ(pair_lone_ys(h.graph, regions, cache, 80, 200, 2.0, 1.0, true), 1);
+  EXPECT_EQ(pair_lone_ys(h.graph, regions, cache, 80, 2.0, 1.0, true), 1);
   ASSERT_EQ(regions.size(), 1u);
   EXPECT_EQ(regions[0].exits.size(), 4u);
 }
@@ -924,14 +924,14 @@ TEST(Bending, RegionsEachPairingTheLinkDearlyAreOneCrossing) {
       for (size_t k = 0; k < t.size(); ++k)
         EXPECT_EQ(!paired[k], regions[r].exits[k].branch == ending) << "region " << r << ", exit " << k;
     }
-    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 30, 200, 4.0), 0)
+    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 30, 4.0), 0)
         << "the strands left ending do not continue each other: without a gain, not joined";
-    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 30, 200, 4.0, 1000.0), 0)
+    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 30, 4.0, 1000.0), 0)
         << "a gain larger than joining brings: not joined";
   }
   TangentCache cache(g, setup);
   std::vector<CrossingRegion> regions = h.regions_of({a, c});
-  ASSERT_EQ(pair_lone_ys(g, regions, cache, 30, 200, 4.0, 1.0), 1);
+  ASSERT_EQ(pair_lone_ys(g, regions, cache, 30, 4.0, 1.0), 1);
   ASSERT_EQ(regions.size(), 1u);
   ASSERT_EQ(regions[0].exits.size(), 6u);
   const std::vector<BranchTangent> t = cache.of(regions[0].exits);
@@ -973,14 +973,14 @@ TEST(Bending, TwoYsWithACrossingBetweenThemAreOneCrossing) {
     SkeletonGraph untouched = g;
     TangentCache cache(untouched, setup);
     std::vector<CrossingRegion> regions = h.regions_of({y1, m, y2});
-    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 30, 200, 1e-3), 0)
+    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 30, 1e-3), 0)
         << "strands that cannot continue each other at so low a cost: not joined";
-    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 70, 200, 4.0), 0)
+    EXPECT_EQ(pair_lone_ys(untouched, regions, cache, 70, 4.0), 0)
         << "links no longer than min_link are the Y-pair rule's: not joined";
   }
   TangentCache cache(g, setup);
   std::vector<CrossingRegion> regions = h.regions_of({y1, m, y2});
-  ASSERT_EQ(pair_lone_ys(g, regions, cache, 30, 200, 4.0), 2);
+  ASSERT_EQ(pair_lone_ys(g, regions, cache, 30, 4.0), 2);
   ASSERT_EQ(regions.size(), 1u);
   EXPECT_EQ(strands_of(regions[0], cache),
             (std::set<Strand>{strand(red_in, red_out), strand(blue_in, blue_out), strand(white_in, white_out)}));

@@ -347,6 +347,14 @@ TEST(SuiteScenes, OddRegionsLeftByMergingWithAShortLinkAreOneCrossing) {
   expect_as_many_dlos_as_rods(scene("cables", 29004, 38), 7, 0.95);
 }
 
+// `accuracy-suite.sh out/set-19000 200 19000`, s2 scene 000127: a red rod and a green one
+// twist along each other, lying on each other for 49 r between two Ys. The Ys' pass took
+// links up to wide_radii (40 r) only: the two Ys stayed apart and the rods came out as
+// three DLOs (strict DICE 0.57). It takes links of any length.
+TEST(SuiteScenes, RodsLyingOnEachOtherFarPastWideRadiiAreTwoDlos) {
+  expect_as_many_dlos_as_rods(scene("s2", 19002, 127), 2, 0.95);
+}
+
 // `accuracy-suite.sh out/fresh-15000 200 15000`, stress scene 000071: a ring of its own
 // colour touches the other rods at one crossing cluster only. Its colour, which no other
 // exit there shares, keeps it closed.

@@ -218,8 +218,8 @@ class TangentCache {
 };
 
 // Two regions with odd exit counts (each leaves one strand ending there) joined by a branch
-// longer than `min_link` (Y-pair matching took the shorter ones) and at most `max_link`:
-// one crossing when the two strands left alone continue each other (they pair together in
+// longer than `min_link` (Y-pair matching took the shorter ones), however long: one
+// crossing when the two strands left alone continue each other (they pair together in
 // the joined region's minimal energy pairing, at a cost of at most `max_cost`). Such a pair
 // is a thin DLO passing under or over a wide one at a shallow angle: where it lies within
 // the wide one's width, the mask shows one DLO with a thin branch on either side. Two plain
@@ -238,7 +238,10 @@ class TangentCache {
 // after merge_regions_by_pairing_cost, which leaves two regions of odd exit count alone
 // (their case is this one) and can make them out of Ys that Y-pair matching had already
 // used, a strand lying along another through a knot of three (suite `cables` seed 29004
-// scene 38: two regions of five exits joined by two links of 2.3 and 2.7 r).
+// scene 38: two regions of five exits joined by two links of 2.3 and 2.7 r). No link is too
+// long: what joins two regions is how their strands pair, not how far apart they are, and
+// two rods lying on each other can do so for any length (bounded at 40 r, suite `s2` seed
+// 19002 scene 127, two rods twisting along each other for 49 r, came out as three DLOs).
 // Also two plain Ys each linked as above (longer than `min_link`) to a region of even
 // exit count between them (a third DLO crossing two strands that lie along each other
 // from one Y to the other): the three are one crossing when the joined least-cost pairing
@@ -246,7 +249,7 @@ class TangentCache {
 // region's exits among themselves. Cheapest first (a gain counting as its negative cost),
 // each region once. Returns the joins made (two for a Y, a crossing and a Y).
 int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, TangentCache& cache,
-                 double min_link, double max_link, double max_cost,
+                 double min_link, double max_cost,
                  double min_gain = std::numeric_limits<double>::infinity(), bool short_links = false);
 
 // Junction grouping decides by distance; where three strands cross near one point the

@@ -180,10 +180,11 @@ struct DetectorConfig {
   // pairing their exits together costs this much less (bending energy units) than pairing
   // each alone (bending.h, merge_regions_by_pairing_cost), and by a branch up to wide_radii
   // when it costs three times this much less, as do three regions in a row; so do two
-  // regions each leaving a strand ending, joined by a branch up to wide_radii
-  // (pair_lone_ys). Large values turn it off.
+  // regions each leaving a strand ending, joined by a branch of any length past
+  // 2 epsilon_radii (pair_lone_ys; less is asked from epsilon_radii up). Large values turn
+  // it off.
   double merge_gain = 1.0;
-  // Two Ys joined by a branch longer than epsilon_radii and up to wide_radii, each leaving
+  // Two Ys joined by a branch longer than epsilon_radii (of any length), each leaving
   // a strand ending there, are one crossing when those two strands continue each other at
   // a pairing cost (bending energy plus colour) of at most this (bending.h, pair_lone_ys):
   // a thin DLO passing along a wide one at a shallow angle; or when both strands run
