@@ -989,8 +989,8 @@ struct Merge {
 
 // How far a DLO's forked tip may lie from a region it is merged with, in prongs (tip_prong
 // each): a tip beside a crossing may be part of it (a cable's end curled back onto its own
-// strand came apart at 2 prongs, held-out suite `cables` seed 19004 scene 102), but from 3
-// prongs on it is a DLO's end near a crossing, and merged, its prong's shaded colour pairs
+// strand came apart at 2 prongs, held-out suite `cables` seed 19004 scene 102), but past 3
+// prongs it is a DLO's end near a crossing, and merged, its prong's shaded colour pairs
 // cheaply with a strand there (at epsilon, 5 prongs, a grey cable's end beside a black one
 // took the black one's way on, suite `cables` seed 11004 scene 139).
 constexpr double kTipReach = 3;
