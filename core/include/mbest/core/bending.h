@@ -370,9 +370,10 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
 
 // Keeps each passage's path on the mask. build_passages draws a passage as a Hermite curve
 // between its two exits, which is the strand's course through an ordinary crossing; but
-// across a long region (Y-pairs and merged regions joined by links up to wide_radii) the
-// curve can cut over the background, or leave the image at its border, leaving the DLO's
-// centerline and labels off its pixels. Where the curve runs off the mask for more than
+// across a long region (Y-pairs, regions merged through links up to wide_radii, and Ys
+// joined by pair_lone_ys through links of any length) the curve can cut over the
+// background, or leave the image at its border, leaving the DLO's centerline and labels off
+// its pixels. Where the curve runs off the mask for more than
 // `max_off` px in a row, or leaves the image, its path becomes the cheapest chain of mask
 // pixels between the two exits that keeps to the middle of the strands and, where the mask
 // allows, near the curve (path_through_mask; the radii are interpolated along it). Returns
