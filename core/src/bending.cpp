@@ -274,13 +274,13 @@ void sample_branch_colour(const SkeletonGraph& g, BranchEnd end, const cv::Mat& 
   t->has_colour = true;
 }
 
-double colour_distance(const cv::Vec3f& a, const cv::Vec3f& b) {
-  return std::sqrt(static_cast<double>(colour_distance_squared(a, b)));
+double colour_distance(const cv::Vec3f& a, const cv::Vec3f& b, float lightness) {
+  return std::sqrt(static_cast<double>(colour_distance_squared(a, b, lightness)));
 }
 
-double colour_penalty(const BranchTangent& a, const BranchTangent& b) {
+double colour_penalty(const BranchTangent& a, const BranchTangent& b, float lightness) {
   if (!a.has_colour || !b.has_colour) return 0;
-  const double distance = colour_distance(a.colour, b.colour);
+  const double distance = colour_distance(a.colour, b.colour, lightness);
   const double excess = (distance - kColourTolerance) / (2 * kColourTolerance);
   return kColourPenaltyMax * std::clamp(excess, 0.0, 1.0);
 }
@@ -717,6 +717,15 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
       // the weighted bending of the strand's route between them through the inner branches.
       std::vector<std::vector<double>> e = pair_cost_matrix(tangents, weights);
       add_loop_closing_costs(e, tangents, region.exits, weights.loop);
+      // Colour with lightness weighed by route.lightness rather than kLightnessWeight.
+      if (weights.colour > 0 && route.lightness != kLightnessWeight)
+        for (size_t a = 0; a < e.size(); ++a)
+          for (size_t b = a + 1; b < e.size(); ++b) {
+            const double change = colour_penalty(tangents[a], tangents[b], route.lightness) -
+                                  colour_penalty(tangents[a], tangents[b]);
+            e[a][b] += weights.colour * change;
+            e[b][a] += weights.colour * change;
+          }
       const std::vector<std::vector<double>> routed = inner_route_bending(
           graph, region, tangents, cache.setup().cut_length, cache.setup().fit_length);
       for (size_t a = 0; a < e.size(); ++a)

@@ -553,7 +553,8 @@ constexpr ConfigField kConfigFields[] = {
     {"colour_label_margin", &DetectorConfig::colour_label_margin, 0, 1000},
     {"side_by_side_radii", &DetectorConfig::side_by_side_radii, 0, 1000},
     {"route_min_exits", &DetectorConfig::route_min_exits, 0, 1000},
-    {"route_weight", &DetectorConfig::route_weight, 0, 100}};
+    {"route_weight", &DetectorConfig::route_weight, 0, 100},
+    {"cluster_lightness", &DetectorConfig::cluster_lightness, 0, 100}};
 
 std::string out_of_range(const ConfigField& f, const std::string& value) {
   char range[64];
@@ -671,7 +672,8 @@ Result<Detection> detect(const cv::Mat& mask, const cv::Mat& bgr, const Detector
     if (join_ys(true) > 0) merge();
     auto built = build_passages(regions, tangents, config.fold_energy, config.unlike_end_energy,
                                 config.colour_fold_energy,
-                                {static_cast<int>(config.route_min_exits), config.route_weight},
+                                {static_cast<int>(config.route_min_exits), config.route_weight,
+                                 static_cast<float>(config.cluster_lightness)},
                                 config.loop_cross_margin);
     if (config.loop_route_radii > 0)
       route_round_inner_loops(built, regions, tangents, config.loop_route_radii * r);

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "mbest/core/bending.h"
 #include "mbest/core/detector.h"
 #include "mbest/synth/config.h"
 #include "mbest/synth/dataset.h"
@@ -123,8 +124,12 @@ TEST(SuiteScenes, ATightLoopCrossesItsRod) {
 // with the yellow cable's crossing (six exits). The loop's ends leave it side by side, and
 // pairing them without crossing (an omega) cost 1.86 against 2.21: no self-crossing listed.
 // The swap is taken there too since the four exits share a colour no other exit has.
+// Since cluster_lightness (its six exits make a cluster) the yellow cable's lightness keeps
+// the loop's ends off it without the margin too: the omega run counts lightness half.
 TEST(SuiteScenes, ALoopClosingOnAnotherRodCrossesItself) {
-  expect_loop_crossing_from_margin(scene("cables", 11004, 157), {618, 282});
+  DetectorConfig omega;
+  omega.cluster_lightness = kLightnessWeight;
+  expect_loop_crossing_from_margin(scene("cables", 11004, 157), {618, 282}, 0, omega);
 }
 
 // The detection's crossing list scored against the scene's crossings (validate's matching:
@@ -362,6 +367,20 @@ TEST(SuiteScenes, RodsLyingOnEachOtherFarPastWideRadiiAreTwoDlos) {
 // the grey one carried on along it (strict DICE 0.85). Tips merge within three prongs.
 TEST(SuiteScenes, ACablesEndBesideACrossingIsNotPartOfIt) {
   expect_as_many_dlos_as_rods(scene("cables", 11004, 139), 6, 0.95);
+}
+
+// `accuracy-suite.sh out/set-17000 200 17000`, stress scene 000199: a light blue rod ties
+// itself into a knot of three loops across a dark blue rod and a teal one, all merged into
+// one cluster of 16 exits. With lightness counted half, the two blues were close enough in
+// colour to pair through the knot: the light blue rod came out in two pieces, one of them
+// joined to the dark blue rod (6 DLOs for 5 rods, strict DICE 0.785, 12 crossings paired
+// wrong). In a cluster lightness counts in full (DetectorConfig::cluster_lightness).
+TEST(SuiteScenes, TwoRodsOfOneHueStayApartThroughAKnot) {
+  const synth::GeneratedScene s = scene("stress", 17005, 199);
+  expect_as_many_dlos_as_rods(s, 5, 0.95);
+  DetectorConfig half;
+  half.cluster_lightness = kLightnessWeight;
+  EXPECT_EQ(detected(s, half).dlos.size(), 6u);
 }
 
 // `accuracy-suite.sh out/fresh-15000 200 15000`, stress scene 000071: a ring of its own

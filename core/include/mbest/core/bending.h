@@ -69,17 +69,20 @@ inline constexpr double kColourStretchFits = 4.0;
 // What pairing two exits of different colour costs, in units of bending energy: 0 up to a
 // colour difference of `kColourTolerance` (Lab units, lightness counted half: shading and
 // highlights change lightness along one DLO more than hue), then growing linearly to
-// `kColourPenaltyMax` at three tolerances. 0 when either exit has no colour.
+// `kColourPenaltyMax` at three tolerances. 0 when either exit has no colour. `lightness`
+// weighs the squared lightness difference (kLightnessWeight: counted half).
 inline constexpr double kColourTolerance = 10.0;
 inline constexpr double kColourPenaltyMax = 4.0;
-double colour_penalty(const BranchTangent& a, const BranchTangent& b);
-// The colour difference colour_penalty measures: Euclidean in CIE Lab, lightness counted
-// half; and its square, for comparisons in a hot loop.
-inline float colour_distance_squared(const cv::Vec3f& a, const cv::Vec3f& b) {
+inline constexpr float kLightnessWeight = 0.25f;
+double colour_penalty(const BranchTangent& a, const BranchTangent& b, float lightness = kLightnessWeight);
+// The colour difference colour_penalty measures: Euclidean in CIE Lab, lightness weighted
+// by `lightness` (counted half by default); and its square, for comparisons in a hot loop.
+inline float colour_distance_squared(const cv::Vec3f& a, const cv::Vec3f& b,
+                                     float lightness = kLightnessWeight) {
   const cv::Vec3f d = a - b;
-  return 0.25f * d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  return lightness * d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
 }
-double colour_distance(const cv::Vec3f& a, const cv::Vec3f& b);
+double colour_distance(const cv::Vec3f& a, const cv::Vec3f& b, float lightness = kLightnessWeight);
 
 // What pairing two exits of unlike width costs, in units of bending energy, per unit of
 // width ratio: the wider exit's radius over the narrower's, less `kWidthTolerance` (room
@@ -310,7 +313,9 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // lesser of its bending energy and `route.weight` times the bending of the strand's
 // cheapest route between them through the inner branches (inner_route_bending). All pairs
 // across a cluster share one chord, so their Hermite energies add up alike for any
-// pairing; the skeleton inside shows how each strand runs. Below 10 exits the route is not
+// pairing; the skeleton inside shows how each strand runs. There colour weighs lightness by
+// `route.lightness` (DetectorConfig::cluster_lightness) instead of kLightnessWeight. Below
+// 10 exits the route is not
 // used between a loop's two ends (one branch leaving and re-entering the region), nor,
 // where it bends more than their own pairing, between two exits whose strands both run
 // into one other region (a loop through a second crossing). min_exits 0: never.
@@ -324,6 +329,7 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 struct RouteCosts {
   int min_exits = 0;
   double weight = 1;
+  float lightness = kLightnessWeight;
 };
 std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions,
                                     TangentCache& tangents,
