@@ -312,7 +312,7 @@ double width_penalty(const BranchTangent& a, const BranchTangent& b) {
 
 double pair_cost(const BranchTangent& a, const BranchTangent& b, PairWeights weights) {
   double cost = 0.5 * (bending_energy(a, b) + bending_energy(b, a));
-  if (weights.colour > 0) cost += weights.colour * colour_penalty(a, b);
+  if (weights.colour > 0) cost += weights.colour * colour_penalty(a, b, weights.lightness);
   if (weights.width > 0) cost += weights.width * width_penalty(a, b);
   return cost;
 }
@@ -715,17 +715,10 @@ std::vector<Passage> build_passages(const std::vector<CrossingRegion>& regions, 
         static_cast<int>(region.exits.size()) <= kMaxRouteExits && !region.inner_branches.empty()) {
       // A cluster: exits at two of its nodes pair at the lesser of their bending energy and
       // the weighted bending of the strand's route between them through the inner branches.
-      std::vector<std::vector<double>> e = pair_cost_matrix(tangents, weights);
+      PairWeights in_cluster = weights;
+      in_cluster.lightness = route.lightness;
+      std::vector<std::vector<double>> e = pair_cost_matrix(tangents, in_cluster);
       add_loop_closing_costs(e, tangents, region.exits, weights.loop);
-      // Colour with lightness weighed by route.lightness rather than kLightnessWeight.
-      if (weights.colour > 0 && route.lightness != kLightnessWeight)
-        for (size_t a = 0; a < e.size(); ++a)
-          for (size_t b = a + 1; b < e.size(); ++b) {
-            const double change = colour_penalty(tangents[a], tangents[b], route.lightness) -
-                                  colour_penalty(tangents[a], tangents[b]);
-            e[a][b] += weights.colour * change;
-            e[b][a] += weights.colour * change;
-          }
       const std::vector<std::vector<double>> routed = inner_route_bending(
           graph, region, tangents, cache.setup().cut_length, cache.setup().fit_length);
       for (size_t a = 0; a < e.size(); ++a)

@@ -106,6 +106,8 @@ struct PairWeights {
   // says the branch is a DLO of its own (loop_closing_cost). Only where the pairing knows
   // its exits' branches (the overload of min_energy_pairing with `ends`, TangentCache).
   double loop = 0;
+  // How much lightness counts in the colour penalty (its `lightness`).
+  float lightness = kLightnessWeight;
 };
 
 // What closing a loop at a crossing costs: a rod that crosses itself leaves the crossing
@@ -314,11 +316,11 @@ int merge_regions_by_pairing_cost(SkeletonGraph& graph, std::vector<CrossingRegi
 // cheapest route between them through the inner branches (inner_route_bending). All pairs
 // across a cluster share one chord, so their Hermite energies add up alike for any
 // pairing; the skeleton inside shows how each strand runs. There colour weighs lightness by
-// `route.lightness` (DetectorConfig::cluster_lightness) instead of kLightnessWeight. Below
-// 10 exits the route is not
-// used between a loop's two ends (one branch leaving and re-entering the region), nor,
-// where it bends more than their own pairing, between two exits whose strands both run
-// into one other region (a loop through a second crossing). min_exits 0: never.
+// `route.lightness` (DetectorConfig::cluster_lightness) instead of weights.lightness. Below
+// 10 exits the route is not used between a loop's two ends (one branch leaving and
+// re-entering the region), nor, where it bends more than their own pairing, between two
+// exits whose strands both run into one other region (a loop through a second crossing).
+// min_exits 0: never.
 //
 // A loop's two ends paired with two exits of other branches within 1.5 times the loop's
 // width without crossing (the rod running into the loop and out of it on one side, an
