@@ -950,17 +950,36 @@ int keep_passages_on_mask(std::vector<Passage>& passages, const cv::Mat& mask, f
     }
     return false;
   };
+  // An exit's attachment point may lie a pixel or two off the mask (a skeleton's end at
+  // the image border, where the mask thins): the search starts from the nearest mask pixel
+  // within a radius, and the path is joined to the point itself.
+  const int reach = static_cast<int>(std::ceil(std::max(2.f, r)));
+  const auto onto_mask = [&](cv::Point p) {
+    if (image.contains(p) && mask.at<uint8_t>(p)) return p;
+    cv::Point best = p;
+    int best_d2 = std::numeric_limits<int>::max();
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dx = -reach; dx <= reach; ++dx) {
+        const cv::Point q(p.x + dx, p.y + dy);
+        const int d2 = dx * dx + dy * dy;
+        if (d2 < best_d2 && d2 <= reach * reach && image.contains(q) && mask.at<uint8_t>(q)) best = q, best_d2 = d2;
+      }
+    return best;
+  };
   int replaced = 0;
   for (Passage& p : passages) {
     if (p.path.size() < 2 || !runs_off(p.path)) continue;
-    const cv::Point a = p.path.front(), b = p.path.back();
+    const cv::Point a = onto_mask(p.path.front()), b = onto_mask(p.path.back());
     const int margin = static_cast<int>(std::ceil(std::max(16.f, 8 * r)));
     cv::Rect near = cv::boundingRect(std::vector<cv::Point>{a, b});
     near = cv::Rect(near.x - margin, near.y - margin, near.width + 2 * margin, near.height + 2 * margin);
-    std::vector<cv::Point> path =
+    std::vector<cv::Point> found =
         path_through_mask(mask, a, b, near, r, kCentreWeight, &p.path, kCurveWeight);
-    if (path.empty()) path = path_through_mask(mask, a, b, image, r, kCentreWeight, &p.path, kCurveWeight);
-    if (path.size() < 2) continue;
+    if (found.empty()) found = path_through_mask(mask, a, b, image, r, kCentreWeight, &p.path, kCurveWeight);
+    if (found.size() < 2) continue;
+    std::vector<cv::Point> path{p.path.front()};
+    for (const cv::Point& q : found) append_connected(path, q);
+    append_connected(path, p.path.back());
     const float ra = p.radius.front(), rb = p.radius.back();
     p.path = std::move(path);
     p.loop_begin = p.loop_end = -1;

@@ -384,8 +384,10 @@ int route_round_inner_loops(std::vector<Passage>& passages, const std::vector<Cr
 // its pixels. Where the curve runs off the mask for more than
 // `max_off` px in a row, or leaves the image, its path becomes the cheapest chain of mask
 // pixels between the two exits that keeps to the middle of the strands and, where the mask
-// allows, near the curve (path_through_mask; the radii are interpolated along it). Returns
-// how many paths were replaced.
+// allows, near the curve (path_through_mask; the radii are interpolated along it). An exit
+// point off the mask (an exit attached a pixel or two outside it, at the image border where
+// the mask thins) is joined to the nearest mask pixel within max(2 px, r), where the chain
+// starts. Returns how many paths were replaced.
 int keep_passages_on_mask(std::vector<Passage>& passages, const cv::Mat& mask, float r,
                           float max_off);
 
